@@ -1,0 +1,123 @@
+//! `shakedown run`: one case to its steady state.
+
+use std::process::ExitCode;
+
+use anyhow::Result;
+use clap::Args;
+use serde_json::json;
+use shakedown::case::CaseParams;
+use shakedown::steady::Approach;
+use shakedown::stepper::Summary;
+
+use super::CaseArgs;
+
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub case: CaseArgs,
+    /// Print one JSON object instead of the readable summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+pub fn run(args: RunArgs) -> Result<ExitCode> {
+    let (params, case) = args.case.case(CaseParams::default())?;
+    let mut stepper = case.stepper();
+    let summary = stepper.run_to_steady()?;
+    let history: Vec<f64> = stepper.history().iter().map(|r| r.dissipation).collect();
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string(&to_json(&params, &summary, &history))?
+        );
+    } else {
+        print!("{}", readable(&params, &summary, &history));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+pub fn to_json(params: &CaseParams, s: &Summary, history: &[f64]) -> serde_json::Value {
+    json!({
+        "state": s.state,
+        "dissipation": s.dissipation,
+        "cycles": s.cycles,
+        "rotation_per_cycle": s.rotation_per_cycle,
+        "approach": s.approach,
+        "terminal_load": s.terminal_load,
+        "terminal_time": s.terminal_time,
+        "terminal_theta": s.terminal_theta,
+        "dissipation_history": history,
+        "parameters": {
+            "lambda": params.load_factor,
+            "phi": params.phase,
+            "psi": params.slope,
+            "center": [params.center.0, params.center.1],
+            "friction": params.friction,
+            "nu": params.poisson,
+            "plane": params.plane,
+            "initial": params.initial,
+            "nodes": params.nodes,
+            "steps": params.steps,
+            "max_cycles": params.max_cycles,
+        }
+    })
+}
+
+fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
+    use std::fmt::Write;
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "case      lambda = {}  phi = {:.6} rad ({:.4} pi)  psi = {}  A = ({:.4}, {:.4})",
+        p.load_factor,
+        p.phase,
+        p.phase / std::f64::consts::PI,
+        p.slope,
+        p.center.0,
+        p.center.1
+    );
+    let _ = writeln!(
+        o,
+        "material  f = {}  nu = {}  plane {}   initial path {}   N = {}, {} increments/cycle",
+        p.friction, p.poisson, p.plane, p.initial, p.nodes, p.steps
+    );
+    let how = match s.approach {
+        Approach::NoSlip => "a whole cycle without slip".to_string(),
+        Approach::Settled => "W changed by less than 0.01 % between cycles".to_string(),
+        Approach::Asymptotic => {
+            "W decays towards zero cycle by cycle: shakedown is reached asymptotically".to_string()
+        }
+        Approach::Terminal => match (s.terminal_load, s.terminal_time) {
+            (Some(l), Some(t)) => format!(
+                "at load point {l}, omega t = {t:.4} in cycle {}",
+                s.cycles + 1
+            ),
+            (Some(l), None) => format!("at load point {l} in the initial transient"),
+            _ => String::new(),
+        },
+        Approach::CycleCap => format!("the cap of {} cycles was reached", p.max_cycles),
+    };
+    let _ = writeln!(o, "state     {}  ({how})", s.state);
+    let _ = writeln!(
+        o,
+        "W         {:.6e}  (last cycle, W mu / ((kappa+1) p0^2 a^2))",
+        s.dissipation
+    );
+    let _ = writeln!(
+        o,
+        "rotation  {:.6e} per cycle (mean g)",
+        s.rotation_per_cycle
+    );
+    let _ = writeln!(o, "cycles    {}", s.cycles);
+    if history.len() > 1 {
+        let shown: Vec<String> = history
+            .iter()
+            .rev()
+            .take(6)
+            .rev()
+            .map(|w| format!("{w:.6e}"))
+            .collect();
+        let _ = writeln!(o, "W history (last {}): {}", shown.len(), shown.join(" "));
+    }
+    o
+}

@@ -1,0 +1,157 @@
+//! Residual-traction operators `H` and `|D|` (model.md section 2).
+//!
+//! Every kernel of eq. (7) depends on `theta - phi` only, so on `N` equally
+//! spaced nodes both operators are circulant and fully described by their
+//! Fourier symbols: `H -> -i sgn(n)` (slip changes the pressure) and
+//! `|D| -> |n|` (slip relieves the shear). The Nyquist mode `n = N/2` has no
+//! sign, so `H` drops it and `|D|` keeps `N/2`.
+
+use std::f64::consts::PI;
+
+use faer::Mat;
+
+/// Dense circulant matrices of `H` and `|D|` on `N` nodes.
+#[derive(Debug, Clone)]
+pub struct Operators {
+    nodes: usize,
+    hilbert: Mat<f64>,
+    abs_derivative: Mat<f64>,
+}
+
+impl Operators {
+    pub fn new(nodes: usize) -> Self {
+        let n = nodes;
+        let half = n / 2;
+        let mut h_first = vec![0.0; n];
+        let mut d_first = vec![0.0; n];
+        for (m, (h, d)) in h_first.iter_mut().zip(d_first.iter_mut()).enumerate() {
+            let theta = 2.0 * PI * m as f64 / n as f64;
+            let mut hs = 0.0;
+            let mut ds = 0.0;
+            for k in 1..half {
+                let kt = k as f64 * theta;
+                hs += kt.sin();
+                ds += k as f64 * kt.cos();
+            }
+            let nyquist = if m % 2 == 0 { 1.0 } else { -1.0 };
+            *h = 2.0 * hs / n as f64;
+            *d = (2.0 * ds + half as f64 * nyquist) / n as f64;
+        }
+        let hilbert = Mat::from_fn(n, n, |j, k| h_first[(j + n - k) % n]);
+        let abs_derivative = Mat::from_fn(n, n, |j, k| d_first[(j + n - k) % n]);
+        Self {
+            nodes,
+            hilbert,
+            abs_derivative,
+        }
+    }
+
+    pub fn nodes(&self) -> usize {
+        self.nodes
+    }
+
+    /// `H[j, k]`: pressure at node `j` from unit slip at node `k`.
+    #[inline]
+    pub fn hilbert(&self, j: usize, k: usize) -> f64 {
+        self.hilbert[(j, k)]
+    }
+
+    /// `|D|[j, k]`: shear relief at node `j` from unit slip at node `k`.
+    #[inline]
+    pub fn abs_derivative(&self, j: usize, k: usize) -> f64 {
+        self.abs_derivative[(j, k)]
+    }
+
+    /// Column `k` of `H`, contiguous.
+    #[inline]
+    pub fn hilbert_col(&self, k: usize) -> &[f64] {
+        self.hilbert
+            .col(k)
+            .try_as_col_major()
+            .expect("owned matrix columns are contiguous")
+            .as_slice()
+    }
+
+    /// Column `k` of `|D|`, contiguous.
+    #[inline]
+    pub fn abs_derivative_col(&self, k: usize) -> &[f64] {
+        self.abs_derivative
+            .col(k)
+            .try_as_col_major()
+            .expect("owned matrix columns are contiguous")
+            .as_slice()
+    }
+
+    /// Residual pressure `H g`.
+    pub fn residual_pressure(&self, slip: &[f64]) -> Vec<f64> {
+        self.apply(slip, |k| self.hilbert_col(k), 1.0)
+    }
+
+    /// Residual shear `-|D| g`.
+    pub fn residual_shear(&self, slip: &[f64]) -> Vec<f64> {
+        self.apply(slip, |k| self.abs_derivative_col(k), -1.0)
+    }
+
+    fn apply<'a>(&'a self, slip: &[f64], col: impl Fn(usize) -> &'a [f64], sign: f64) -> Vec<f64> {
+        let mut out = vec![0.0; self.nodes];
+        for (k, &gk) in slip.iter().enumerate() {
+            if gk != 0.0 {
+                for (o, c) in out.iter_mut().zip(col(k)) {
+                    *o += sign * c * gk;
+                }
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn harmonic(n: usize, k: f64, phase: f64) -> Vec<f64> {
+        (0..n)
+            .map(|j| (k * 2.0 * PI * j as f64 / n as f64 + phase).cos())
+            .collect()
+    }
+
+    #[test]
+    fn symbols_on_harmonics() {
+        let n = 64;
+        let ops = Operators::new(n);
+        for k in [1.0, 2.0, 5.0, 31.0] {
+            let g = harmonic(n, k, 0.3);
+            let p = ops.residual_pressure(&g);
+            let q = ops.residual_shear(&g);
+            // H cos = sin; |D| cos(k.) = k cos(k.)
+            let sin = harmonic(n, k, 0.3 - PI / 2.0);
+            for j in 0..n {
+                assert!((p[j] - sin[j]).abs() < 1e-11, "H, k={k}, j={j}");
+                assert!((q[j] + k * g[j]).abs() < 1e-10, "|D|, k={k}, j={j}");
+            }
+        }
+    }
+
+    #[test]
+    fn rigid_rotation_causes_no_traction() {
+        let ops = Operators::new(32);
+        let g = vec![0.7; 32];
+        assert!(ops.residual_pressure(&g).iter().all(|v| v.abs() < 1e-12));
+        assert!(ops.residual_shear(&g).iter().all(|v| v.abs() < 1e-12));
+    }
+
+    #[test]
+    fn nyquist_mode() {
+        let n = 16;
+        let ops = Operators::new(n);
+        let g: Vec<f64> = (0..n)
+            .map(|j| if j % 2 == 0 { 1.0 } else { -1.0 })
+            .collect();
+        let p = ops.residual_pressure(&g);
+        let q = ops.residual_shear(&g);
+        for j in 0..n {
+            assert!(p[j].abs() < 1e-12);
+            assert!((q[j] + (n as f64 / 2.0) * g[j]).abs() < 1e-11);
+        }
+    }
+}

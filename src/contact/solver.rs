@@ -1,0 +1,527 @@
+//! The incremental frictional problem (model.md section 3).
+//!
+//! Across one load increment the slip changes by `dg`. Stick nodes keep
+//! `dg = 0` and `|q| <= f p`; slip nodes satisfy `q = s f p` with
+//! `s = sign(dg)`. Because `p` depends on `g` through `H`, the reduced system
+//! `(-|D| - f diag(s) H)_SS dg_S = -(q - s f p)_S` is non-symmetric and is
+//! solved by an active-set iteration warm-started from the previous
+//! increment's slip set. The system matrix depends only on `(S, s)`, so its
+//! LU factorisation is kept and reused while the slip set does not change.
+
+use std::f64::consts::PI;
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::lu::partial_pivoting::factor::{lu_in_place, lu_in_place_scratch};
+use faer::linalg::lu::partial_pivoting::solve::{solve_in_place, solve_in_place_scratch};
+use faer::perm::PermRef;
+use faer::{MatMut, MatRef, Par};
+
+use super::operators::Operators;
+use crate::params::{LoadPoint, Material};
+
+/// Direction of slip at one node during the last increment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SlipDirection {
+    #[default]
+    Stick,
+    /// `dg > 0`: the disc slips counter-clockwise relative to the plate.
+    Forward,
+    /// `dg < 0`.
+    Backward,
+}
+
+impl SlipDirection {
+    pub fn sign(self) -> f64 {
+        match self {
+            SlipDirection::Stick => 0.0,
+            SlipDirection::Forward => 1.0,
+            SlipDirection::Backward => -1.0,
+        }
+    }
+    fn from_sign(s: f64) -> Self {
+        if s > 0.0 {
+            SlipDirection::Forward
+        } else {
+            SlipDirection::Backward
+        }
+    }
+    pub fn is_slipping(self) -> bool {
+        self != SlipDirection::Stick
+    }
+}
+
+/// Why an increment has no frictional solution. Both are physical end
+/// states, not numerical failures.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ContactError {
+    #[error("gross slip at load point {load}: the whole interface slides")]
+    GrossSlip { load: LoadPoint },
+    #[error(
+        "separation at load point {load}: p = {pressure:.4} < 0 at theta = {theta:.4} rad (node {node})"
+    )]
+    Separation {
+        load: LoadPoint,
+        node: usize,
+        theta: f64,
+        pressure: f64,
+    },
+    #[error("active set did not settle at load point {load} after {iterations} iterations")]
+    NotSettled { load: LoadPoint, iterations: usize },
+}
+
+fn most_negative(p: &[f64]) -> Option<(usize, f64)> {
+    p.iter()
+        .copied()
+        .enumerate()
+        .filter(|(_, v)| *v < 0.0)
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// A hash of a slip set with directions, to notice a cycling active set.
+fn fingerprint(dirs: &[SlipDirection]) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    dirs.hash(&mut h);
+    h.finish()
+}
+
+/// Tolerance on the friction inequality, in units of the traction `p0`.
+const TRACTION_TOL: f64 = 1e-12;
+/// A slip node whose `s dg` is below `-DG_TOL * max|dg|` has reversed.
+const DG_TOL: f64 = 1e-10;
+
+/// The result of solving one increment, not yet committed.
+#[derive(Debug, Clone)]
+pub struct Trial {
+    pub load: LoadPoint,
+    pub slip_increment: Vec<f64>,
+    pub pressure: Vec<f64>,
+    pub shear: Vec<f64>,
+    pub directions: Vec<SlipDirection>,
+    /// `1/2 int q dg dtheta` over this increment (>= 0).
+    pub dissipation: f64,
+    /// Active-set iterations taken.
+    pub iterations: usize,
+    /// Factorisations computed (the rest reused the cached one).
+    pub factorisations: usize,
+}
+
+impl Trial {
+    /// Nodes that slipped before this increment and stick after it.
+    pub fn advancing_stick(&self, before: &[SlipDirection]) -> Vec<usize> {
+        before
+            .iter()
+            .zip(&self.directions)
+            .enumerate()
+            .filter(|(_, (b, a))| b.is_slipping() && !a.is_slipping())
+            .map(|(j, _)| j)
+            .collect()
+    }
+}
+
+/// Scratch space of the active-set iteration, kept between increments so
+/// that a run allocates almost nothing per increment. It also holds the LU
+/// factorisation of the last reduced system and the slip set it belongs to.
+struct Workspace {
+    p0: Vec<f64>,
+    q0: Vec<f64>,
+    set: Vec<usize>,
+    rhs: Vec<f64>,
+    /// Column-major `k x k` LU factors of the reduced system, `k = key.len()`.
+    lu: Vec<f64>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    /// Slip set and directions the factorisation belongs to (empty: none).
+    key: Vec<(usize, SlipDirection)>,
+    stack: MemBuffer,
+}
+
+impl Workspace {
+    fn new(n: usize) -> Self {
+        let par = Par::Seq;
+        let req = lu_in_place_scratch::<usize, f64>(n, n, par, Default::default())
+            .or(solve_in_place_scratch::<usize, f64>(n, 1, par));
+        Self {
+            p0: vec![0.0; n],
+            q0: vec![0.0; n],
+            set: Vec::with_capacity(n),
+            rhs: vec![0.0; n],
+            lu: vec![0.0; n * n],
+            perm: vec![0; n],
+            perm_inv: vec![0; n],
+            key: Vec::with_capacity(n),
+            stack: MemBuffer::new(req),
+        }
+    }
+}
+
+impl Clone for Workspace {
+    fn clone(&self) -> Self {
+        // Scratch only: a clone starts with an empty factorisation cache.
+        Workspace::new(self.p0.len())
+    }
+}
+
+/// The contact state: locked-in slip `g`, tractions at the current load and
+/// the slip set of the last increment.
+#[derive(Clone)]
+pub struct Contact {
+    material: Material,
+    ops: std::sync::Arc<Operators>,
+    sin: Vec<f64>,
+    cos: Vec<f64>,
+    load: LoadPoint,
+    slip: Vec<f64>,
+    residual_pressure: Vec<f64>,
+    residual_shear: Vec<f64>,
+    pressure: Vec<f64>,
+    shear: Vec<f64>,
+    directions: Vec<SlipDirection>,
+    work: Workspace,
+}
+
+impl std::fmt::Debug for Contact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Contact")
+            .field("load", &self.load)
+            .field("nodes", &self.slip.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Contact {
+    /// The shrink-fit state: no load, no slip, uniform pressure.
+    pub fn new(material: Material, ops: std::sync::Arc<Operators>) -> Self {
+        let n = ops.nodes();
+        let theta = |j: usize| 2.0 * PI * j as f64 / n as f64;
+        let mut c = Self {
+            material,
+            sin: (0..n).map(|j| theta(j).sin()).collect(),
+            cos: (0..n).map(|j| theta(j).cos()).collect(),
+            ops,
+            load: LoadPoint::ORIGIN,
+            slip: vec![0.0; n],
+            residual_pressure: vec![0.0; n],
+            residual_shear: vec![0.0; n],
+            pressure: vec![1.0; n],
+            shear: vec![0.0; n],
+            directions: vec![SlipDirection::Stick; n],
+            work: Workspace::new(n),
+        };
+        c.refresh();
+        c
+    }
+
+    /// Replace the locked-in slip (an initial condition) without any load
+    /// change. The caller is responsible for it satisfying the friction law.
+    pub fn set_slip(&mut self, slip: &[f64]) {
+        self.slip.copy_from_slice(slip);
+        self.residual_pressure = self.ops.residual_pressure(&self.slip);
+        self.residual_shear = self.ops.residual_shear(&self.slip);
+        self.directions.fill(SlipDirection::Stick);
+        self.refresh();
+    }
+
+    /// Move the load without slip (valid while the friction law holds, as
+    /// in a shakedown state); used to place a state at a known point.
+    pub fn set_load_elastic(&mut self, load: LoadPoint) {
+        self.load = load;
+        self.directions.fill(SlipDirection::Stick);
+        self.refresh();
+    }
+
+    fn refresh(&mut self) {
+        let (p, q) = self.tractions_at(self.load);
+        self.pressure = p;
+        self.shear = q;
+    }
+
+    /// Tractions at `load` with the current slip and no further slip:
+    /// eqs. (1)-(2) plus the residual parts.
+    pub fn tractions_at(&self, load: LoadPoint) -> (Vec<f64>, Vec<f64>) {
+        let (mut p, mut q) = self.elastic_tractions(load);
+        for j in 0..p.len() {
+            p[j] += self.residual_pressure[j];
+            q[j] += self.residual_shear[j];
+        }
+        (p, q)
+    }
+
+    /// Tractions of eqs. (1)-(2) alone: the loads without any slip.
+    pub fn elastic_tractions(&self, load: LoadPoint) -> (Vec<f64>, Vec<f64>) {
+        let loads = self.material.to_loads(load);
+        let (alpha, beta) = (self.material.alpha(), self.material.beta());
+        let two_pi = 2.0 * PI;
+        let p = self
+            .sin
+            .iter()
+            .map(|s| 1.0 - beta * loads.radial * s / two_pi)
+            .collect();
+        let q = self
+            .cos
+            .iter()
+            .map(|c| -loads.torque / two_pi - alpha * loads.radial * c / two_pi)
+            .collect();
+        (p, q)
+    }
+
+    /// Residual pressure `H g`.
+    pub fn residual_pressure(&self) -> &[f64] {
+        &self.residual_pressure
+    }
+
+    /// Residual shear `-|D| g`.
+    pub fn residual_shear(&self) -> &[f64] {
+        &self.residual_shear
+    }
+
+    pub fn material(&self) -> &Material {
+        &self.material
+    }
+    pub fn nodes(&self) -> usize {
+        self.slip.len()
+    }
+    pub fn load(&self) -> LoadPoint {
+        self.load
+    }
+    /// Locked-in slip `g(theta_j)`.
+    pub fn slip(&self) -> &[f64] {
+        &self.slip
+    }
+    /// Pressure `p(theta_j)` (scaled by `p0`).
+    pub fn pressure(&self) -> &[f64] {
+        &self.pressure
+    }
+    /// Shear traction `q(theta_j)` (scaled by `p0`).
+    pub fn shear(&self) -> &[f64] {
+        &self.shear
+    }
+    /// Slip set and directions of the last increment.
+    pub fn directions(&self) -> &[SlipDirection] {
+        &self.directions
+    }
+    /// Rigid rotation: the mean of `g` (its `n = 0` mode).
+    pub fn rotation(&self) -> f64 {
+        self.slip.iter().sum::<f64>() / self.slip.len() as f64
+    }
+
+    /// Solve the increment to `load` without committing it.
+    pub fn solve(&mut self, load: LoadPoint) -> Result<Trial, ContactError> {
+        let n = self.nodes();
+        let f = self.material.friction();
+        let mut w = std::mem::replace(
+            &mut self.work,
+            Workspace {
+                p0: Vec::new(),
+                q0: Vec::new(),
+                set: Vec::new(),
+                rhs: Vec::new(),
+                lu: Vec::new(),
+                perm: Vec::new(),
+                perm_inv: Vec::new(),
+                key: Vec::new(),
+                stack: MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
+            },
+        );
+        let result = self.solve_with(load, f, n, &mut w);
+        self.work = w;
+        result
+    }
+
+    fn solve_with(
+        &self,
+        load: LoadPoint,
+        f: f64,
+        n: usize,
+        w: &mut Workspace,
+    ) -> Result<Trial, ContactError> {
+        self.tractions_into(load, &mut w.p0, &mut w.q0);
+        if let Some((node, pressure)) = most_negative(&w.p0) {
+            return Err(self.separation(load, node, pressure));
+        }
+
+        // Warm start: last increment's slip set plus every predictor violation.
+        let mut dirs = self.directions.clone();
+        for j in 0..n {
+            if w.q0[j].abs() > f * w.p0[j] + TRACTION_TOL {
+                dirs[j] = SlipDirection::from_sign(w.q0[j]);
+            }
+        }
+
+        let max_iterations = 4 * n + 20;
+        let mut seen: Vec<u64> = Vec::new();
+        let mut factorisations = 0;
+        let mut dg = vec![0.0; n];
+        let mut p = w.p0.clone();
+        let mut q = w.q0.clone();
+        for iteration in 1..=max_iterations {
+            w.set.clear();
+            w.set.extend((0..n).filter(|&j| dirs[j].is_slipping()));
+            if w.set.len() == n {
+                return Err(ContactError::GrossSlip { load });
+            }
+            dg.fill(0.0);
+            p.copy_from_slice(&w.p0);
+            q.copy_from_slice(&w.q0);
+            if !w.set.is_empty() {
+                let k = w.set.len();
+                let same = w.key.len() == k
+                    && w.key.iter().all(|&(j, d)| dirs[j] == d && d.is_slipping())
+                    && w.key.iter().zip(&w.set).all(|(a, &b)| a.0 == b);
+                if !same {
+                    self.factorise(w, &dirs);
+                    factorisations += 1;
+                }
+                for (a, &j) in w.set.iter().enumerate() {
+                    w.rhs[a] = -(w.q0[j] - dirs[j].sign() * f * w.p0[j]);
+                }
+                let lu = MatRef::from_column_major_slice(&w.lu[..k * k], k, k);
+                let perm = PermRef::new_checked(&w.perm[..k], &w.perm_inv[..k], k);
+                let rhs = MatMut::from_column_major_slice_mut(&mut w.rhs[..k], k, 1);
+                solve_in_place(lu, lu, perm, rhs, Par::Seq, MemStack::new(&mut w.stack));
+                for (a, &col) in w.set.iter().enumerate() {
+                    let d = w.rhs[a];
+                    if !d.is_finite() {
+                        return Err(ContactError::NotSettled {
+                            load,
+                            iterations: iteration,
+                        });
+                    }
+                    dg[col] = d;
+                    let hcol = self.ops.hilbert_col(col);
+                    let dcol = self.ops.abs_derivative_col(col);
+                    for (pj, hj) in p.iter_mut().zip(hcol) {
+                        *pj += hj * d;
+                    }
+                    for (qj, dj) in q.iter_mut().zip(dcol) {
+                        *qj -= dj * d;
+                    }
+                }
+            }
+
+            let scale = w.set.iter().map(|&j| dg[j].abs()).fold(0.0, f64::max);
+            let mut changed = false;
+            for &j in &w.set {
+                if dirs[j].sign() * dg[j] < -DG_TOL * scale {
+                    dirs[j] = SlipDirection::Stick;
+                    changed = true;
+                }
+            }
+            // A node released in this pass still carries its dg here; it comes
+            // back next pass if its traction then asks for it.
+            for j in 0..n {
+                if dg[j] == 0.0 && !dirs[j].is_slipping() && q[j].abs() > f * p[j] + TRACTION_TOL {
+                    dirs[j] = SlipDirection::from_sign(q[j]);
+                    changed = true;
+                }
+            }
+            if !changed {
+                if let Some((node, pressure)) = most_negative(&p) {
+                    return Err(self.separation(load, node, pressure));
+                }
+                let directions: Vec<SlipDirection> = (0..n)
+                    .map(|j| {
+                        if dirs[j].is_slipping() && dg[j] != 0.0 {
+                            SlipDirection::from_sign(dg[j])
+                        } else {
+                            SlipDirection::Stick
+                        }
+                    })
+                    .collect();
+                let dtheta = 2.0 * PI / n as f64;
+                // q dg = f p |dg| on slip nodes; averaging the pressure at the
+                // start (old load) and end of the increment makes the sum
+                // second order in the increment.
+                let dissipation: f64 = (0..n)
+                    .filter(|&j| dg[j] != 0.0)
+                    .map(|j| 0.5 * f * 0.5 * (p[j] + self.pressure[j]) * dg[j].abs())
+                    .sum::<f64>()
+                    * dtheta;
+                return Ok(Trial {
+                    load,
+                    slip_increment: dg,
+                    pressure: p,
+                    shear: q,
+                    directions,
+                    dissipation,
+                    iterations: iteration,
+                    factorisations,
+                });
+            }
+            let h = fingerprint(&dirs);
+            if seen.contains(&h) {
+                break;
+            }
+            seen.push(h);
+        }
+        Err(ContactError::NotSettled {
+            load,
+            iterations: seen.len() + 1,
+        })
+    }
+
+    /// Tractions at `load` with the current slip, into the given buffers.
+    fn tractions_into(&self, load: LoadPoint, p: &mut [f64], q: &mut [f64]) {
+        let loads = self.material.to_loads(load);
+        let two_pi = 2.0 * PI;
+        let pr = self.material.beta() * loads.radial / two_pi;
+        let qr = self.material.alpha() * loads.radial / two_pi;
+        let qt = loads.torque / two_pi;
+        for j in 0..p.len() {
+            p[j] = 1.0 - pr * self.sin[j] + self.residual_pressure[j];
+            q[j] = -qt - qr * self.cos[j] + self.residual_shear[j];
+        }
+    }
+
+    /// LU of `(-|D| - f diag(s) H)_SS` for the slip set in `w.set`.
+    fn factorise(&self, w: &mut Workspace, dirs: &[SlipDirection]) {
+        let f = self.material.friction();
+        let k = w.set.len();
+        w.key.clear();
+        w.key.extend(w.set.iter().map(|&j| (j, dirs[j])));
+        for (b, &col) in w.set.iter().enumerate() {
+            let hcol = self.ops.hilbert_col(col);
+            let dcol = self.ops.abs_derivative_col(col);
+            for (a, &(row, s)) in w.key.iter().enumerate() {
+                w.lu[b * k + a] = -dcol[row] - f * s.sign() * hcol[row];
+            }
+        }
+        let m = MatMut::from_column_major_slice_mut(&mut w.lu[..k * k], k, k);
+        lu_in_place(
+            m,
+            &mut w.perm[..k],
+            &mut w.perm_inv[..k],
+            Par::Seq,
+            MemStack::new(&mut w.stack),
+            Default::default(),
+        );
+    }
+
+    fn separation(&self, load: LoadPoint, node: usize, pressure: f64) -> ContactError {
+        ContactError::Separation {
+            load,
+            node,
+            theta: 2.0 * PI * node as f64 / self.nodes() as f64,
+            pressure,
+        }
+    }
+
+    /// Commit a solved increment.
+    pub fn commit(&mut self, trial: Trial) {
+        if trial.slip_increment.iter().any(|&d| d != 0.0) {
+            for (g, d) in self.slip.iter_mut().zip(&trial.slip_increment) {
+                *g += d;
+            }
+            let (p_el, q_el) = self.elastic_tractions(trial.load);
+            for j in 0..self.nodes() {
+                self.residual_pressure[j] = trial.pressure[j] - p_el[j];
+                self.residual_shear[j] = trial.shear[j] - q_el[j];
+            }
+        }
+        self.load = trial.load;
+        self.pressure = trial.pressure;
+        self.shear = trial.shear;
+        self.directions = trial.directions;
+    }
+}

@@ -1,0 +1,24 @@
+//! Frictional shakedown of a shrink-fitted disc: the physics of Cwiekala,
+//! Barber & Hills (see `shared/model.md`), a stepper that advances it one
+//! increment at a time, batch drivers and a terminal explorer.
+//!
+//! Layout: [`params`] (inputs), [`contact`] (operators and the incremental
+//! solver), [`path`] (transients and the cycle), [`stepper`] (one increment
+//! at a time, with events), [`steady`] (convergence and classification).
+
+pub mod case;
+pub mod contact;
+pub mod limit;
+pub mod params;
+pub mod parse;
+pub mod path;
+pub mod steady;
+pub mod stepper;
+pub mod sweep;
+pub mod tui;
+
+pub use contact::{Contact, ContactError, Operators, SlipDirection};
+pub use params::{Cycle, Discretisation, LoadPoint, Loads, Material, ParamError, Plane};
+pub use path::{Initial, PathError};
+pub use steady::{Approach, Convergence, CycleRecord, SteadyState};
+pub use stepper::{Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary};

@@ -1,0 +1,214 @@
+//! Load paths (model.md section 5): the initial transients that prepare the
+//! locked-in slip, and the steady cycle of eq. (11) that follows.
+
+use std::f64::consts::{FRAC_PI_4, PI};
+use std::sync::Arc;
+
+use crate::params::{Cycle, LoadPoint};
+
+/// A bad initial-path name or custom path.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PathError {
+    #[error(
+        "initial path '{0}' is not known: expected OA, optimal, or one of the 24 points a,b in units of pi/4 with |a|,|b| in {{3,5,7}} and |a|+|b| > 8 (e.g. 7,-7)"
+    )]
+    Unknown(String),
+    #[error(
+        "initial point {0},{1} (units of pi/4) lies inside the initial stick region |x|+|y| <= 2pi, so it prepares no slip: pick |a|+|b| > 8"
+    )]
+    InsideStick(i32, i32),
+    #[error(
+        "initial point {0},{1} (units of pi/4) is not one of the paper's 24: |a| and |b| must be 3, 5 or 7 with |a|+|b| > 8"
+    )]
+    NotPaperPoint(i32, i32),
+    #[error("custom path point {index} is not finite")]
+    NotFinite { index: usize },
+}
+
+/// How the locked-in slip is prepared before the steady cycle starts.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Initial {
+    /// The direct path `O -> A` ("OA").
+    Direct,
+    /// `O -> I -> A` with `I = (a pi/4, b pi/4)`: one of the paper's 24.
+    Via { a: i32, b: i32 },
+    /// `O -> p1 -> ... -> pk -> A`, a user's own transient.
+    Custom(Vec<LoadPoint>),
+    /// Start at `A` with this locked-in slip and no transient (model.md
+    /// section 7: the optimal slip of the `lambda_2` problem).
+    Slip { name: String, slip: Arc<Vec<f64>> },
+}
+
+impl Initial {
+    /// The paper's 25 transients in their stable order: `OA` first, then
+    /// the 24 points sorted by `a` then `b` (both from -7 to 7).
+    pub fn paper_set() -> Vec<Initial> {
+        let mut out = vec![Initial::Direct];
+        let values: [i32; 6] = [-7, -5, -3, 3, 5, 7];
+        for a in values {
+            for b in values {
+                if a.abs() + b.abs() > 8 {
+                    out.push(Initial::Via { a, b });
+                }
+            }
+        }
+        out
+    }
+
+    /// Stable name: `OA`, `a,b`, `custom` or the slip's name.
+    pub fn name(&self) -> String {
+        match self {
+            Initial::Direct => "OA".into(),
+            Initial::Via { a, b } => format!("{a},{b}"),
+            Initial::Custom(_) => "custom".into(),
+            Initial::Slip { name, .. } => name.clone(),
+        }
+    }
+
+    /// Parse `OA` or `a,b`. (`optimal` needs the limit analysis and is
+    /// resolved by the caller.)
+    pub fn parse(text: &str) -> Result<Initial, PathError> {
+        let t = text.trim();
+        if t.eq_ignore_ascii_case("oa") {
+            return Ok(Initial::Direct);
+        }
+        let parts: Vec<&str> = t.split(',').map(str::trim).collect();
+        if parts.len() != 2 {
+            return Err(PathError::Unknown(text.to_string()));
+        }
+        let (Ok(a), Ok(b)) = (parts[0].parse::<i32>(), parts[1].parse::<i32>()) else {
+            return Err(PathError::Unknown(text.to_string()));
+        };
+        if a.abs() + b.abs() <= 8 && a.abs() <= 8 && b.abs() <= 8 {
+            return Err(PathError::InsideStick(a, b));
+        }
+        let ok = |v: i32| matches!(v.abs(), 3 | 5 | 7);
+        if !ok(a) || !ok(b) {
+            return Err(PathError::NotPaperPoint(a, b));
+        }
+        Ok(Initial::Via { a, b })
+    }
+
+    /// A custom transient through the given load-plane points.
+    pub fn custom(points: Vec<LoadPoint>) -> Result<Initial, PathError> {
+        if let Some(index) = points
+            .iter()
+            .position(|p| !(p.x().is_finite() && p.y().is_finite()))
+        {
+            return Err(PathError::NotFinite { index });
+        }
+        Ok(Initial::Custom(points))
+    }
+
+    /// Waypoints of the transient from the unloaded state to the cycle
+    /// centre `A` (inclusive), for the paths that start at `O`.
+    pub fn waypoints_to(&self, center: LoadPoint) -> Vec<LoadPoint> {
+        let mut w = vec![LoadPoint::ORIGIN];
+        match self {
+            Initial::Direct => {}
+            Initial::Via { a, b } => {
+                w.push(LoadPoint::new(*a as f64 * FRAC_PI_4, *b as f64 * FRAC_PI_4));
+            }
+            Initial::Custom(points) => w.extend(points.iter().copied()),
+            Initial::Slip { .. } => return vec![center],
+        }
+        w.push(center);
+        w
+    }
+}
+
+impl std::fmt::Display for Initial {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.name())
+    }
+}
+
+/// One straight segment of a transient, cut into equal increments.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Segment {
+    pub from: LoadPoint,
+    pub to: LoadPoint,
+    pub increments: usize,
+}
+
+impl Segment {
+    pub fn new(from: LoadPoint, to: LoadPoint, max_step: f64) -> Self {
+        let increments = ((from.distance(to) / max_step).ceil() as usize).max(1);
+        Self {
+            from,
+            to,
+            increments,
+        }
+    }
+    pub fn at(&self, s: f64) -> LoadPoint {
+        self.from.lerp(self.to, s)
+    }
+}
+
+/// Straight segments through the waypoints, skipping zero-length ones.
+pub fn segments(waypoints: &[LoadPoint], max_step: f64) -> Vec<Segment> {
+    waypoints
+        .windows(2)
+        .filter(|w| w[0].distance(w[1]) > 1e-14)
+        .map(|w| Segment::new(w[0], w[1], max_step))
+        .collect()
+}
+
+/// The segment `A -> C` from the cycle centre to the cycle's `t = 0` point.
+/// For `phi = 0` it is empty (`C = A`). The paper does not say how the
+/// ellipse is entered; this straight segment is this project's convention.
+pub fn entry_waypoints(cycle: &Cycle) -> Vec<LoadPoint> {
+    vec![cycle.center, cycle.start()]
+}
+
+/// The point of a stick-diamond check: `|x| + |y| <= 2 pi`.
+pub fn inside_stick_diamond(p: LoadPoint) -> bool {
+    p.diamond_norm() <= 2.0 * PI
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paper_set_has_25_outside_the_diamond() {
+        let set = Initial::paper_set();
+        assert_eq!(set.len(), 25);
+        assert_eq!(set[0], Initial::Direct);
+        for i in &set[1..] {
+            let w = i.waypoints_to(LoadPoint::new(PI, 0.75 * PI));
+            assert!(!inside_stick_diamond(w[1]), "{i}");
+        }
+        let names: std::collections::BTreeSet<String> = set.iter().map(|i| i.name()).collect();
+        assert_eq!(names.len(), 25);
+    }
+
+    #[test]
+    fn parse_names() {
+        assert_eq!(Initial::parse("oa").unwrap(), Initial::Direct);
+        assert_eq!(
+            Initial::parse("7,-7").unwrap(),
+            Initial::Via { a: 7, b: -7 }
+        );
+        assert_eq!(
+            Initial::parse(" -3 , 7 ").unwrap(),
+            Initial::Via { a: -3, b: 7 }
+        );
+        assert!(matches!(
+            Initial::parse("3,3"),
+            Err(PathError::InsideStick(3, 3))
+        ));
+        assert!(matches!(
+            Initial::parse("9,9"),
+            Err(PathError::NotPaperPoint(9, 9))
+        ));
+        assert!(matches!(
+            Initial::parse("4,7"),
+            Err(PathError::NotPaperPoint(4, 7))
+        ));
+        assert!(Initial::parse("x").is_err());
+        for i in Initial::paper_set() {
+            assert_eq!(Initial::parse(&i.name()).unwrap(), i);
+        }
+    }
+}

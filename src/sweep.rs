@@ -1,0 +1,194 @@
+//! Batch sweeps over `lambda`, `phi` and initial paths.
+//!
+//! Work is reused where the physics allows: the transient `O -> I -> A`
+//! does not depend on `lambda` or `phi`, so the contact at the centre `A`
+//! is computed once per initial path and cloned into every run. Runs go in
+//! parallel (rayon); results come back in job order, so the output is the
+//! same whatever the thread count.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::contact::Contact;
+use crate::params::{Cycle, Discretisation, LoadPoint, Material, ParamError};
+use crate::path::Initial;
+use crate::steady::SteadyState;
+use crate::stepper::{operators, StepError, StepOptions, Stepper, Summary};
+
+/// What a sweep runs: the product `load_factors x phases x initials`.
+#[derive(Debug, Clone)]
+pub struct SweepSpec {
+    pub material: Material,
+    pub disc: Discretisation,
+    pub options: StepOptions,
+    pub center: LoadPoint,
+    pub slope: f64,
+    pub load_factors: Vec<f64>,
+    pub phases: Vec<f64>,
+    pub initials: Vec<Initial>,
+}
+
+/// One run of a sweep.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Job {
+    /// Position in the full job list: the row order of the output.
+    pub index: usize,
+    pub load_factor: f64,
+    pub phase: f64,
+    /// Index into [`SweepSpec::initials`].
+    pub initial: usize,
+}
+
+/// The state column of a row: a steady state, or a numerical failure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(untagged)]
+pub enum RowState {
+    Steady(SteadyState),
+    Failed,
+}
+
+impl std::fmt::Display for RowState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RowState::Steady(s) => s.fmt(f),
+            RowState::Failed => f.write_str("failed"),
+        }
+    }
+}
+
+/// One finished run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    pub job: Job,
+    pub initial: String,
+    pub outcome: Result<Summary, StepError>,
+}
+
+impl Row {
+    pub fn state(&self) -> RowState {
+        match &self.outcome {
+            Ok(s) => RowState::Steady(s.state),
+            Err(_) => RowState::Failed,
+        }
+    }
+}
+
+impl SweepSpec {
+    /// Every run, in output order: `lambda` outermost, then `phi`, then the
+    /// initial paths in their given order.
+    pub fn jobs(&self) -> Vec<Job> {
+        let mut jobs =
+            Vec::with_capacity(self.load_factors.len() * self.phases.len() * self.initials.len());
+        for &load_factor in &self.load_factors {
+            for &phase in &self.phases {
+                for initial in 0..self.initials.len() {
+                    jobs.push(Job {
+                        index: jobs.len(),
+                        load_factor,
+                        phase,
+                        initial,
+                    });
+                }
+            }
+        }
+        jobs
+    }
+
+    /// Check every cycle of the sweep before any work starts.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        for &l in &self.load_factors {
+            for &p in &self.phases {
+                Cycle::new(self.center, l, self.slope, p)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The contact at `A` for each initial path (in parallel), or the
+    /// summary of a transient that already ended in gross slip or separation.
+    pub fn prepare(&self) -> Vec<Result<Result<Contact, Summary>, StepError>> {
+        let ops = operators(&self.disc);
+        self.initials
+            .par_iter()
+            .map(|initial| {
+                Stepper::prepare_at_center(
+                    Arc::clone(&ops),
+                    self.material,
+                    self.disc,
+                    initial,
+                    self.center,
+                    self.options,
+                )
+            })
+            .collect()
+    }
+
+    /// Run `jobs` (a subset of [`SweepSpec::jobs`]) in parallel. `done` is
+    /// called once per finished run, from any thread. When `cancel` is set,
+    /// runs not yet started are skipped: the result then holds only the runs
+    /// that finished, still in job order.
+    pub fn run(&self, jobs: &[Job], done: &(dyn Fn(&Row) + Sync), cancel: &AtomicBool) -> Vec<Row> {
+        let prepared = self.prepare();
+        let mut rows: Vec<Row> = jobs
+            .par_iter()
+            .filter_map(|job| {
+                if cancel.load(Ordering::Relaxed) {
+                    return None;
+                }
+                let row = self.run_job(job, &prepared[job.initial]);
+                done(&row);
+                Some(row)
+            })
+            .collect();
+        rows.sort_by_key(|r| r.job.index);
+        rows
+    }
+
+    fn run_job(&self, job: &Job, prepared: &Result<Result<Contact, Summary>, StepError>) -> Row {
+        let initial = self.initials[job.initial].name();
+        let outcome = match prepared {
+            Err(e) => Err(e.clone()),
+            Ok(Err(summary)) => Ok(summary.clone()),
+            Ok(Ok(contact)) => {
+                let cycle = Cycle::new(self.center, job.load_factor, self.slope, job.phase)
+                    .expect("validated before the sweep");
+                let mut s = Stepper::from_center(contact.clone(), cycle, self.disc, self.options);
+                s.run_to_steady()
+            }
+        };
+        Row {
+            job: *job,
+            initial,
+            outcome,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn job_order_is_lambda_phi_initial() {
+        let spec = SweepSpec {
+            material: Material::paper(),
+            disc: Discretisation::default(),
+            options: StepOptions::default(),
+            center: LoadPoint::new(1.0, 1.0),
+            slope: 0.5,
+            load_factors: vec![1.0, 2.0],
+            phases: vec![0.0, 0.5],
+            initials: Initial::paper_set()[..3].to_vec(),
+        };
+        let jobs = spec.jobs();
+        assert_eq!(jobs.len(), 12);
+        assert_eq!(
+            (jobs[3].load_factor, jobs[3].phase, jobs[3].initial),
+            (1.0, 0.5, 0)
+        );
+        assert!(jobs.iter().enumerate().all(|(i, j)| j.index == i));
+    }
+}
