@@ -40,7 +40,7 @@ pub struct StepOptions {
 impl Default for StepOptions {
     fn default() -> Self {
         Self {
-            stick_bisections: 3,
+            stick_bisections: 1,
             failure_bisections: 12,
             convergence: Convergence::default(),
         }
