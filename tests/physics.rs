@@ -7,8 +7,8 @@ use std::sync::atomic::AtomicBool;
 
 use shakedown::sweep::SweepSpec;
 use shakedown::{
-    Contact, Cycle, Discretisation, Initial, LoadPoint, Material, Operators, SlipDirection,
-    SteadyState, StepOptions, Stepper,
+    Contact, Cycle, Discretisation, Initial, LoadPoint, Material, Operators, SteadyState,
+    StepOptions, Stepper,
 };
 
 fn run(

@@ -29,7 +29,9 @@ pub struct Operators {
 
 impl std::fmt::Debug for Operators {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Operators").field("nodes", &self.nodes).finish_non_exhaustive()
+        f.debug_struct("Operators")
+            .field("nodes", &self.nodes)
+            .finish_non_exhaustive()
     }
 }
 
@@ -101,8 +103,13 @@ impl Operators {
     ) {
         let n = self.nodes;
         scratch.data.clear();
-        scratch.data.extend(slip.iter().map(|&g| Complex64::new(g, 0.0)));
-        let need = self.forward.get_inplace_scratch_len().max(self.inverse.get_inplace_scratch_len());
+        scratch
+            .data
+            .extend(slip.iter().map(|&g| Complex64::new(g, 0.0)));
+        let need = self
+            .forward
+            .get_inplace_scratch_len()
+            .max(self.inverse.get_inplace_scratch_len());
         if scratch.work.len() < need {
             scratch.work.resize(need, Complex64::default());
         }
@@ -113,7 +120,12 @@ impl Operators {
         }
         self.inverse
             .process_with_scratch(&mut scratch.data[..n], &mut scratch.work[..need]);
-        for ((z, p), r) in scratch.data.iter().zip(pressure.iter_mut()).zip(relief.iter_mut()) {
+        for ((z, p), r) in scratch
+            .data
+            .iter()
+            .zip(pressure.iter_mut())
+            .zip(relief.iter_mut())
+        {
             *r = z.re;
             *p = z.im;
         }
@@ -217,7 +229,9 @@ mod tests {
     fn fft_matches_the_dense_matrices() {
         let n = 64;
         let ops = Operators::new(n);
-        let g: Vec<f64> = (0..n).map(|j| ((j * j * 7 + 3) % 13) as f64 / 13.0 - 0.4).collect();
+        let g: Vec<f64> = (0..n)
+            .map(|j| ((j * j * 7 + 3) % 13) as f64 / 13.0 - 0.4)
+            .collect();
         let (mut p, mut r) = (vec![0.0; n], vec![0.0; n]);
         ops.apply_both(&g, &mut p, &mut r, &mut FftScratch::default());
         let p_dense = ops.residual_pressure(&g);

@@ -42,8 +42,9 @@ struct DenseLu {
 
 impl DenseLu {
     fn new(capacity: usize) -> Self {
-        let req = lu_in_place_scratch::<usize, f64>(capacity, capacity, Par::Seq, Default::default())
-            .or(solve_in_place_scratch::<usize, f64>(capacity, 1, Par::Seq));
+        let req =
+            lu_in_place_scratch::<usize, f64>(capacity, capacity, Par::Seq, Default::default())
+                .or(solve_in_place_scratch::<usize, f64>(capacity, 1, Par::Seq));
         Self {
             lu: vec![0.0; capacity * capacity],
             perm: vec![0; capacity],
@@ -154,7 +155,11 @@ impl ReducedSolver {
         for &(node, _) in &self.base {
             self.base_pos[node] = NONE;
         }
-        for v in self.column_solves.iter_mut().chain(self.unit_solves.iter_mut()) {
+        for v in self
+            .column_solves
+            .iter_mut()
+            .chain(self.unit_solves.iter_mut())
+        {
             v.clear();
         }
         self.base.clear();
@@ -343,20 +348,44 @@ impl ReducedSolver {
             match self.items[i] {
                 Item::Column { .. } => {}
                 Item::AddedRow { node, i: a, sign } => {
-                    row.extend(self.base.iter().map(|&(col, _)| Self::entry(ops, friction, node, sign, col)));
-                    row.extend(self.added.iter().map(|&(col, _)| Self::entry(ops, friction, node, sign, col)));
+                    row.extend(
+                        self.base
+                            .iter()
+                            .map(|&(col, _)| Self::entry(ops, friction, node, sign, col)),
+                    );
+                    row.extend(
+                        self.added
+                            .iter()
+                            .map(|&(col, _)| Self::entry(ops, friction, node, sign, col)),
+                    );
                     row[k + a] -= 1.0;
                 }
                 Item::Removed { node, pos } => {
                     let sign = self.base[pos].1;
-                    row.extend(self.base.iter().map(|&(col, _)| -Self::entry(ops, friction, node, sign, col)));
-                    row.extend(self.added.iter().map(|&(col, _)| -Self::entry(ops, friction, node, sign, col)));
+                    row.extend(
+                        self.base
+                            .iter()
+                            .map(|&(col, _)| -Self::entry(ops, friction, node, sign, col)),
+                    );
+                    row.extend(
+                        self.added
+                            .iter()
+                            .map(|&(col, _)| -Self::entry(ops, friction, node, sign, col)),
+                    );
                     row[pos] += 1.0;
                 }
                 Item::Flipped { node, pos } => {
                     let scale = 2.0 * friction * self.base[pos].1;
-                    row.extend(self.base.iter().map(|&(col, _)| scale * ops.hilbert(node, col)));
-                    row.extend(self.added.iter().map(|&(col, _)| scale * ops.hilbert(node, col)));
+                    row.extend(
+                        self.base
+                            .iter()
+                            .map(|&(col, _)| scale * ops.hilbert(node, col)),
+                    );
+                    row.extend(
+                        self.added
+                            .iter()
+                            .map(|&(col, _)| scale * ops.hilbert(node, col)),
+                    );
                 }
             }
             debug_assert!(row.is_empty() || row.len() == u);
@@ -375,7 +404,9 @@ impl ReducedSolver {
                     }
                     (Item::Column { .. }, _) => 0.0,
                     (_, Item::AddedRow { i: b, .. }) => self.z_rows[i][k + b],
-                    (_, Item::Column { node, .. }) => dot(&self.z_rows[i][..k], &self.column_solves[node]),
+                    (_, Item::Column { node, .. }) => {
+                        dot(&self.z_rows[i][..k], &self.column_solves[node])
+                    }
                     (_, Item::Removed { node, .. } | Item::Flipped { node, .. }) => {
                         dot(&self.z_rows[i][..k], &self.unit_solves[node])
                     }
@@ -405,7 +436,9 @@ mod tests {
     }
 
     fn check(ops: &Operators, solver: &mut ReducedSolver, set: &[(usize, f64)]) {
-        let rhs: Vec<f64> = (0..set.len()).map(|i| ((i * 37 % 11) as f64 - 5.0) / 7.0).collect();
+        let rhs: Vec<f64> = (0..set.len())
+            .map(|i| ((i * 37 % 11) as f64 - 5.0) / 7.0)
+            .collect();
         let mut x = vec![0.0; set.len()];
         solver.solve(ops, 0.1, set, &rhs, &mut x);
         let want = reference(ops, 0.1, set, &rhs);
@@ -418,7 +451,9 @@ mod tests {
     fn low_rank_updates_match_a_fresh_factorisation() {
         let ops = Operators::new(64);
         let mut solver = ReducedSolver::new(64);
-        let zone = |from: usize, to: usize, sign: f64| -> Vec<(usize, f64)> { (from..to).map(|j| (j, sign)).collect() };
+        let zone = |from: usize, to: usize, sign: f64| -> Vec<(usize, f64)> {
+            (from..to).map(|j| (j, sign)).collect()
+        };
         check(&ops, &mut solver, &zone(10, 40, 1.0));
         let f0 = solver.factorisations;
         // Grow, shrink, move, flip a node, and combinations.

@@ -10,7 +10,6 @@
 
 use std::f64::consts::PI;
 
-
 use super::operators::{FftScratch, Operators};
 use super::reduced::ReducedSolver;
 use crate::params::{LoadPoint, Material};
@@ -316,9 +315,9 @@ impl Contact {
 
         // Warm start: last increment's slip set plus every predictor violation.
         let mut dirs = self.directions.clone();
-        for j in 0..n {
-            if w.q0[j].abs() > f * w.p0[j] + TRACTION_TOL {
-                dirs[j] = SlipDirection::from_sign(w.q0[j]);
+        for ((d, &q0), &p0) in dirs.iter_mut().zip(&w.q0).zip(&w.p0) {
+            if q0.abs() > f * p0 + TRACTION_TOL {
+                *d = SlipDirection::from_sign(q0);
             }
         }
 
