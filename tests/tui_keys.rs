@@ -195,7 +195,7 @@ fn check(action: Action, event: KeyEvent) {
             }
             assert!(!app.is_running());
             let notice = app.notice().unwrap_or_default();
-            assert!(notice.contains("paused on event"), "{notice}");
+            assert!(notice.contains("paused on the event"), "{notice}");
             handle(&mut app);
             assert!(!app.pauses_on_events());
         }

@@ -547,6 +547,8 @@ impl App {
         }
 
         let mut pause: Option<String> = None;
+        // Set when an event worth pausing for happened; its text is what
+        // the status line shows as the last event.
         for event in &report.events {
             let text = match event {
                 Event::SlipSetChanged { slipping, zones } => {
@@ -554,9 +556,13 @@ impl App {
                     let changes = zone_changes(&self.zones, &new, self.case.disc.nodes());
                     self.zones = new;
                     if changes.is_empty() {
-                        format!("slip set changed: {slipping} nodes slipping in {zones} zones")
+                        format!(
+                            "slip set changed: {slipping} nodes slipping in {}",
+                            plural(*zones, "zone")
+                        )
                     } else {
-                        let text = format!("{} ({zones} zones now)", changes.join(", "));
+                        let text =
+                            format!("{} ({} now)", changes.join(", "), plural(*zones, "zone"));
                         if changes.iter().any(|c| !c.contains("vanished")) {
                             pause.get_or_insert_with(|| text.clone());
                         }
@@ -614,7 +620,10 @@ impl App {
         }
         match pause {
             Some(text) if self.pause_on_events => {
-                self.notice = Some(format!("paused on event: {text}; Space runs on"));
+                // The event itself goes on the status line, where the last
+                // event is shown, so the notice need not repeat it.
+                self.last_event = Some(text);
+                self.notice = Some("paused on the event (Space runs on)".into());
                 Err(Stop::Paused)
             }
             _ => Ok(()),
@@ -728,12 +737,20 @@ fn describe_nodes(nodes: &[usize], n: usize) -> String {
         })
         .collect();
     let more = if runs.len() > 3 { ", …" } else { "" };
-    let count = if nodes.len() == 1 {
-        "1 node".to_string()
+    format!(
+        "{}, theta/pi = {}{more}",
+        plural(nodes.len(), "node"),
+        shown.join(", ")
+    )
+}
+
+/// `1 zone`, `2 zones`.
+pub fn plural(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
     } else {
-        format!("{} nodes", nodes.len())
-    };
-    format!("{count}, theta/pi = {}{more}", shown.join(", "))
+        format!("{n} {noun}s")
+    }
 }
 
 /// Node angle shown in `[-pi, pi)`, the range the paper's figures use.

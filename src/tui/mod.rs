@@ -57,11 +57,16 @@ struct FrameStats {
     total: Duration,
     busy_total: Duration,
     max: Duration,
+    max_step: Duration,
+    max_draw: Duration,
     over_50ms: u64,
+    /// The slowest frames: (frame, step, draw, increments stepped).
+    slowest: Vec<(u64, Duration, Duration, usize)>,
 }
 
 impl FrameStats {
-    fn record(&mut self, took: Duration, busy: bool) {
+    fn record(&mut self, step: Duration, draw: Duration, stepped: usize, busy: bool) {
+        let took = step + draw;
         self.frames += 1;
         self.total += took;
         if busy {
@@ -69,23 +74,38 @@ impl FrameStats {
             self.busy_total += took;
         }
         self.max = self.max.max(took);
+        self.max_step = self.max_step.max(step);
+        self.max_draw = self.max_draw.max(draw);
         if took > Duration::from_millis(50) {
             self.over_50ms += 1;
         }
+        self.slowest.push((self.frames, step, draw, stepped));
+        self.slowest.sort_by_key(|s| std::cmp::Reverse(s.1 + s.2));
+        self.slowest.truncate(5);
     }
 
     fn write(&self, path: &std::ffi::OsStr, increments: usize) {
         let mean = |t: Duration, n: u64| t.as_secs_f64() * 1e3 / n.max(1) as f64;
         let text = format!(
-            "frames {}\nstepping frames {}\nmean frame ms {:.3}\nmean stepping frame ms {:.3}\nmax frame ms {:.3}\nframes over 50 ms {}\nincrements {}\n",
+            "frames {}\nstepping frames {}\nmean frame ms {:.3}\nmean stepping frame ms {:.3}\nmax frame ms {:.3}\nmax step ms {:.3}\nmax draw ms {:.3}\nframes over 50 ms {}\nincrements {}\n",
             self.frames,
             self.busy_frames,
             mean(self.total, self.frames),
             mean(self.busy_total, self.busy_frames),
             self.max.as_secs_f64() * 1e3,
+            self.max_step.as_secs_f64() * 1e3,
+            self.max_draw.as_secs_f64() * 1e3,
             self.over_50ms,
             increments
         );
+        let mut text = text;
+        for (frame, step, draw, stepped) in &self.slowest {
+            text.push_str(&format!(
+                "slow frame {frame}: step {:.3} ms ({stepped} increments), draw {:.3} ms\n",
+                step.as_secs_f64() * 1e3,
+                draw.as_secs_f64() * 1e3
+            ));
+        }
         let _ = std::fs::write(path, text);
     }
 }
@@ -111,14 +131,17 @@ fn event_loop(
     loop {
         let start = Instant::now();
         let busy = app.is_busy();
+        let before = app.stepper().increments();
         // Keys redraw at once, but stepping keeps to the frame rate, so
         // holding a key down does not speed the run up.
         if last_tick.map_or(true, |t| start.duration_since(t) >= FRAME) {
             app.tick(STEP_BUDGET);
             last_tick = Some(start);
         }
+        let stepped = app.stepper().increments().saturating_sub(before);
+        let drawing = Instant::now();
         term.draw(|frame| ui::draw(frame, app))?;
-        stats.record(start.elapsed(), busy);
+        stats.record(drawing - start, drawing.elapsed(), stepped, busy);
 
         // Wait out the rest of the frame, acting on every key that comes
         // in; a key redraws at once rather than at the next tick.

@@ -1,5 +1,8 @@
 //! The locked-in slip `g(theta)`: the memory of the loading history. Its
-//! mean is the rigid rotation, given as a number.
+//! mean is the rigid rotation, given as a number; the curve is drawn about
+//! that mean, because the rotation grows without bound when the disc
+//! ratchets and would flatten the shape that carries the memory (the
+//! tractions see `g` only through operators that ignore its mean).
 
 use ratatui::layout::Rect;
 use ratatui::style::Color;
@@ -15,8 +18,9 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let contact = app.stepper().contact();
     let n = contact.nodes();
     let slip = contact.slip();
+    let rotation = contact.rotation();
     let points: Vec<(f64, f64)> = theta_order(n)
-        .map(|j| (node_theta(j, n), slip[j]))
+        .map(|j| (node_theta(j, n), slip[j] - rotation))
         .collect();
     let (lo, hi) = points
         .iter()
@@ -33,13 +37,10 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         .graph_type(GraphType::Line)
         .style(theme.fg(Color::LightYellow))];
     let block = theme
-        .panel(" Locked-in slip g(θ) ")
+        .panel(" Locked-in slip g(θ) - ḡ ")
         .title_bottom(Line::from(vec![
             Span::styled(" rotation ḡ = ", theme.label()),
-            Span::styled(
-                format!("{} ", format_sci(contact.rotation())),
-                theme.value(),
-            ),
+            Span::styled(format!("{} ", format_sci(rotation)), theme.value()),
         ]));
     let chart = Chart::new(datasets)
         .block(block)
@@ -53,7 +54,7 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         )
         .y_axis(
             Axis::default()
-                .title(Span::styled("g", theme.label()))
+                .title(Span::styled("g-ḡ", theme.label()))
                 .bounds([bottom, top])
                 .labels(if bottom < 0.0 && top > 0.0 {
                     vec![tick(bottom), "0".into(), tick(top)]

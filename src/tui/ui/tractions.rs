@@ -12,7 +12,7 @@ use ratatui::Frame;
 use super::slip_map::{BACKWARD_GLYPH, FORWARD_GLYPH, STUCK_GLYPH};
 use super::{nice_ceiling, theta_labels, theta_order, tick, Theme};
 use crate::contact::SlipDirection;
-use crate::tui::app::{node_theta, App};
+use crate::tui::app::{node_theta, plural, App};
 
 pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let contact = app.stepper().contact();
@@ -87,8 +87,8 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             Span::styled(
                 if wide {
                     format!(
-                        "{STUCK_GLYPH} just stuck: {} nodes, {} sub-increments",
-                        s.nodes.len(),
+                        "{STUCK_GLYPH} just stuck: {}, {} sub-increments",
+                        plural(s.nodes.len(), "node"),
                         s.substeps
                     )
                 } else {
