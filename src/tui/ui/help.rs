@@ -20,7 +20,7 @@ pub fn render(frame: &mut Frame, area: Rect, theme: &Theme) {
         .max()
         .unwrap_or(0) as u16;
     let width = (key_width + help_width + 7).min(area.width);
-    let height = (BINDINGS.len() as u16 + 3).min(area.height);
+    let height = (BINDINGS.len() as u16 + 2).min(area.height);
     let rect = Rect::new(
         area.x + (area.width - width) / 2,
         area.y + (area.height - height) / 2,
