@@ -134,7 +134,7 @@ fn event_loop(
         let before = app.stepper().increments();
         // Keys redraw at once, but stepping keeps to the frame rate, so
         // holding a key down does not speed the run up.
-        if last_tick.map_or(true, |t| start.duration_since(t) >= FRAME) {
+        if last_tick.is_none_or(|t| start.duration_since(t) >= FRAME) {
             app.tick(STEP_BUDGET);
             last_tick = Some(start);
         }
