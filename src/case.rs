@@ -118,8 +118,7 @@ pub fn resolve_initial(
     disc: &Discretisation,
 ) -> Result<Initial, CaseError> {
     if name.trim().eq_ignore_ascii_case("optimal") {
-        return crate::limit::optimal_initial(material, cycle, disc)
-            .map_err(CaseError::Optimal);
+        return crate::limit::optimal_initial(material, cycle, disc).map_err(CaseError::Optimal);
     }
     Ok(Initial::parse(name)?)
 }

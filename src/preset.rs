@@ -321,7 +321,11 @@ struct FigureToml {
 /// 1-based line of a byte offset.
 fn line_of(text: &str, offset: usize) -> usize {
     let end = offset.min(text.len());
-    text.as_bytes()[..end].iter().filter(|&&b| b == b'\n').count() + 1
+    text.as_bytes()[..end]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
 }
 
 struct Ctx<'a> {
@@ -495,7 +499,8 @@ fn case_params(ctx: &Ctx, c: &CaseToml) -> Result<CaseParams, PresetError> {
             None => ctx.whole(message),
         });
     }
-    let initial_ok = p.initial.eq_ignore_ascii_case("optimal") || Initial::parse(&p.initial).is_ok();
+    let initial_ok =
+        p.initial.eq_ignore_ascii_case("optimal") || Initial::parse(&p.initial).is_ok();
     if !initial_ok {
         let e = Initial::parse(&p.initial).expect_err("checked above");
         return Err(match &c.initial {
@@ -537,7 +542,9 @@ fn sweep_lists(ctx: &Ctx, s: &SweepToml, p: &CaseParams) -> Result<SweepLists, P
     let initials = match &s.initial {
         Some(v) => Initial::parse_list(v.get_ref())
             .map_err(|e| ctx.at(v.span(), format!("sweep.initial: {e}")))?,
-        None => Initial::parse_list(&p.initial).map_err(|e| ctx.whole(format!("case.initial: {e}")))?,
+        None => {
+            Initial::parse_list(&p.initial).map_err(|e| ctx.whole(format!("case.initial: {e}")))?
+        }
     };
     Ok(SweepLists {
         load_factors,

@@ -97,7 +97,10 @@ fn lambda_2_lies_right_of_every_transient_shakedown() {
         .filter(|r| matches!(&r.outcome, Ok(s) if s.state == SteadyState::Shakedown))
         .map(|r| r.job.load_factor)
         .collect();
-    assert!(!shaken.is_empty(), "some transient shakes down at lambda = 4");
+    assert!(
+        !shaken.is_empty(),
+        "some transient shakes down at lambda = 4"
+    );
     let largest = shaken.iter().cloned().fold(f64::MIN, f64::max);
     assert!(
         largest < l.load_factor,
@@ -152,8 +155,14 @@ fn limit_command_prints_lambda_2_and_writes_the_slip() {
     );
     // Finer samplings only add constraints: lambda_M never increases, and
     // every lower bound stays below every upper bound.
-    let upper: Vec<f64> = conv.iter().map(|c| c["lambda_2"].as_f64().unwrap()).collect();
-    let lower: Vec<f64> = conv.iter().map(|c| c["lower_bound"].as_f64().unwrap()).collect();
+    let upper: Vec<f64> = conv
+        .iter()
+        .map(|c| c["lambda_2"].as_f64().unwrap())
+        .collect();
+    let lower: Vec<f64> = conv
+        .iter()
+        .map(|c| c["lower_bound"].as_f64().unwrap())
+        .collect();
     for w in upper.windows(2) {
         assert!(w[1] <= w[0] + 1e-6, "{upper:?}");
     }

@@ -32,13 +32,33 @@ fn every_builtin_preset_runs_reduced() {
             let o = shakedown(&[&["run", "--preset", &p.name, "--json"][..], &SMALL].concat());
             assert!(o.status.success(), "{}: {}", p.name, stderr(&o));
             let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
-            assert_eq!(v["parameters"]["lambda"].as_f64(), Some(p.params.load_factor));
+            assert_eq!(
+                v["parameters"]["lambda"].as_f64(),
+                Some(p.params.load_factor)
+            );
             continue;
         }
         // Two values of the swept variable and two initial paths.
-        let lambdas: Vec<String> = p.sweep.load_factors.iter().take(2).map(f64::to_string).collect();
-        let phases: Vec<String> = p.sweep.phases.iter().step_by(12).take(2).map(f64::to_string).collect();
-        let initials = if p.sweep.initials.len() > 1 { "OA,7,-7" } else { "OA" };
+        let lambdas: Vec<String> = p
+            .sweep
+            .load_factors
+            .iter()
+            .take(2)
+            .map(f64::to_string)
+            .collect();
+        let phases: Vec<String> = p
+            .sweep
+            .phases
+            .iter()
+            .step_by(12)
+            .take(2)
+            .map(f64::to_string)
+            .collect();
+        let initials = if p.sweep.initials.len() > 1 {
+            "OA,7,-7"
+        } else {
+            "OA"
+        };
         let dir = scratch(&format!("preset-{}", p.name));
         let csv = dir.join("w.csv");
         let (lambdas, phases) = (lambdas.join(","), phases.join(","));
@@ -62,7 +82,11 @@ fn every_builtin_preset_runs_reduced() {
         let paths = if initials == "OA" { 1 } else { 2 };
         let expected = lambdas.split(',').count() * phases.split(',').count() * paths;
         assert_eq!(rows.len(), expected, "{}", p.name);
-        assert!(rows.iter().all(|r| r[3] != "failed"), "{}: {rows:?}", p.name);
+        assert!(
+            rows.iter().all(|r| r[3] != "failed"),
+            "{}: {rows:?}",
+            p.name
+        );
         let _ = std::fs::remove_dir_all(dir);
     }
 }
@@ -133,10 +157,22 @@ fn user_preset_file_is_loaded_and_errors_name_file_and_line() {
     assert_eq!(v["state"], "shakedown");
 
     let bad_cases = [
-        ("description = \"x\"\n[case]\nfriction = -0.1\n", 3, "friction"),
-        ("description = \"x\"\n\n[sweep]\nlambdas = \"3:4:0.5\"\n", 4, "lambdas"),
+        (
+            "description = \"x\"\n[case]\nfriction = -0.1\n",
+            3,
+            "friction",
+        ),
+        (
+            "description = \"x\"\n\n[sweep]\nlambdas = \"3:4:0.5\"\n",
+            4,
+            "lambdas",
+        ),
         ("description = \"x\"\n[sweep]\nphi = \"0:pi:0\"\n", 3, "phi"),
-        ("description = \"x\"\n[figure]\nkind = \"slip-map\"\nx = \"theta\"\n", 4, "theta"),
+        (
+            "description = \"x\"\n[figure]\nkind = \"slip-map\"\nx = \"theta\"\n",
+            4,
+            "theta",
+        ),
         ("[case]\nlambda = 3\n", 1, "description"),
     ];
     for (k, (text, line, word)) in bad_cases.iter().enumerate() {

@@ -34,8 +34,12 @@ pub struct FigureArgs {
 }
 
 fn write(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text)
-        .map_err(|e| anyhow!(InputError(format!("--out: cannot write {}: {e}", path.display()))))
+    std::fs::write(path, text).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--out: cannot write {}: {e}",
+            path.display()
+        )))
+    })
 }
 
 pub fn figure(args: FigureArgs) -> Result<ExitCode> {
@@ -175,7 +179,8 @@ fn single_case(args: &FigureArgs, preset: &Preset) -> Result<Case> {
     let mut p = args.model.apply(preset.params.clone())?;
     let one = |flag: &str, text: &Option<String>, item: fn(&str) -> _| -> Result<Option<f64>> {
         let Some(t) = text else { return Ok(None) };
-        let v: Vec<f64> = parse_values(t, item).map_err(|e| anyhow!(InputError(format!("--{flag} {t}: {e}"))))?;
+        let v: Vec<f64> =
+            parse_values(t, item).map_err(|e| anyhow!(InputError(format!("--{flag} {t}: {e}"))))?;
         if v.len() != 1 {
             return Err(anyhow!(InputError(format!(
                 "--{flag} {t}: a slip map draws one case, so give one value"

@@ -492,8 +492,26 @@ fn pi_label(v: &f64) -> String {
         4 => "π".into(),
         -4 => "−π".into(),
         _ if k % 4 == 0 => format!("{}π", k / 4),
-        _ if k % 2 == 0 => format!("{}π/2", if k / 2 == 1 { String::new() } else if k / 2 == -1 { "−".into() } else { (k / 2).to_string() }),
-        _ => format!("{}π/4", if k == 1 { String::new() } else if k == -1 { "−".into() } else { k.to_string() }),
+        _ if k % 2 == 0 => format!(
+            "{}π/2",
+            if k / 2 == 1 {
+                String::new()
+            } else if k / 2 == -1 {
+                "−".into()
+            } else {
+                (k / 2).to_string()
+            }
+        ),
+        _ => format!(
+            "{}π/4",
+            if k == 1 {
+                String::new()
+            } else if k == -1 {
+                "−".into()
+            } else {
+                k.to_string()
+            }
+        ),
     }
 }
 

@@ -162,16 +162,12 @@ pub fn memory_runs(
                         }
                         add_abs_change(&mut after, &before, s.contact().slip());
                     }
-                    let outcome = outcome
-                        .unwrap_or_else(|| Ok(s.summary().cloned().expect("not running")));
+                    let outcome =
+                        outcome.unwrap_or_else(|| Ok(s.summary().cloned().expect("not running")));
                     (outcome, total.clone(), after)
                 }
             };
-            let scale = transient
-                .iter()
-                .chain(&after)
-                .cloned()
-                .fold(0.0, f64::max);
+            let scale = transient.iter().chain(&after).cloned().fold(0.0, f64::max);
             done();
             MemoryRun {
                 load_factor: job.load_factor,
@@ -191,10 +187,7 @@ pub fn memory_runs(
 pub fn memory_points(runs: &[MemoryRun]) -> Vec<MemoryPoint> {
     let mut keys: Vec<(f64, f64)> = Vec::new();
     for r in runs {
-        if !keys
-            .iter()
-            .any(|k| k.0 == r.load_factor && k.1 == r.phase)
-        {
+        if !keys.iter().any(|k| k.0 == r.load_factor && k.1 == r.phase) {
             keys.push((r.load_factor, r.phase));
         }
     }
