@@ -114,7 +114,7 @@ impl Row {
 enum Start {
     /// The transient's end state at `A` (or how the transient ended),
     /// shared by every `lambda` and `phi`.
-    Shared(Result<Result<Contact, Summary>, StepError>),
+    Shared(Box<Result<Result<Contact, Summary>, StepError>>),
     /// The optimal slip, which depends on `phi`: looked up per phase.
     PerPhase,
 }
@@ -161,14 +161,14 @@ impl SweepSpec {
             .par_iter()
             .map(|initial| match initial {
                 Initial::Optimal => Start::PerPhase,
-                _ => Start::Shared(Stepper::prepare_at_center(
+                _ => Start::Shared(Box::new(Stepper::prepare_at_center(
                     Arc::clone(&ops),
                     self.material,
                     self.disc,
                     initial,
                     self.center,
                     self.options,
-                )),
+                ))),
             })
             .collect()
     }
@@ -234,9 +234,11 @@ impl SweepSpec {
     fn run_job(&self, job: &Job, start: &Start, optimal: &OptimalStarts) -> Row {
         let initial = self.initials[job.initial].name();
         let contact = match start {
-            Start::Shared(Err(e)) => Err(RunError::Step(e.clone())),
-            Start::Shared(Ok(Err(summary))) => Ok(Err(summary.clone())),
-            Start::Shared(Ok(Ok(contact))) => Ok(Ok(contact)),
+            Start::Shared(shared) => match shared.as_ref() {
+                Err(e) => Err(RunError::Step(e.clone())),
+                Ok(Err(summary)) => Ok(Err(summary.clone())),
+                Ok(Ok(contact)) => Ok(Ok(contact)),
+            },
             Start::PerPhase => {
                 let found = optimal
                     .iter()
