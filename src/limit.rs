@@ -122,7 +122,6 @@ pub fn shakedown_limit(
     };
 
     let n = disc.nodes();
-    let f = material.friction();
     let ops = Arc::new(Operators::new(n));
     let contact = Contact::new(*material, Arc::clone(&ops));
     let (p_center, q_center) = contact.elastic_tractions(center);
@@ -137,123 +136,46 @@ pub fn shakedown_limit(
             (dp, dq)
         })
         .collect();
+    let lp = Programme {
+        ops: &ops,
+        friction: material.friction(),
+        p_center,
+        q_center,
+        rates,
+        center,
+    };
 
-    // Rows: 0 is `mean g = 0`; then for each sample k, node j and sign s the
-    // friction inequality; then `-lambda <= 0` and `lambda <= cap`.
-    let m_friction = 2 * n * times.len();
-    let rows = 1 + m_friction + 2;
-    let row_of = |k: usize, j: usize, s: usize| 1 + (k * n + j) * 2 + s;
-    let signs = [1.0, -1.0];
-
-    let mut colptr = Vec::with_capacity(n + 2);
-    let mut rowval = Vec::new();
-    let mut nzval = Vec::new();
-    colptr.push(0);
-    for col in 0..n {
-        rowval.push(0);
-        nzval.push(1.0 / n as f64);
-        let (h, d) = (ops.hilbert_col(col), ops.abs_derivative_col(col));
-        for k in 0..times.len() {
-            for j in 0..n {
-                for (si, s) in signs.iter().enumerate() {
-                    // s q - f p with q = -|D| g, p = H g
-                    let v = -s * d[j] - f * h[j];
-                    if v != 0.0 {
-                        rowval.push(row_of(k, j, si));
-                        nzval.push(v);
-                    }
-                }
-            }
-        }
-        colptr.push(nzval.len());
-    }
-    for (k, (dp, dq)) in rates.iter().enumerate() {
-        for j in 0..n {
-            for (si, s) in signs.iter().enumerate() {
-                let v = s * dq[j] - f * dp[j];
-                if v != 0.0 {
-                    rowval.push(row_of(k, j, si));
-                    nzval.push(v);
-                }
-            }
-        }
-    }
-    rowval.push(rows - 2);
-    nzval.push(-1.0);
-    rowval.push(rows - 1);
-    nzval.push(1.0);
-    colptr.push(nzval.len());
-    let a = CscMatrix::new(rows, n + 1, colptr, rowval, nzval);
-
-    let mut b = vec![0.0; rows];
-    for k in 0..times.len() {
-        for j in 0..n {
-            for (si, s) in signs.iter().enumerate() {
-                b[row_of(k, j, si)] = f * p_center[j] - s * q_center[j];
-            }
-        }
-    }
-    b[rows - 1] = LAMBDA_CAP;
-
-    let p = CscMatrix::<f64>::zeros((n + 1, n + 1));
-    let mut c = vec![0.0; n + 1];
-    c[n] = -1.0;
-    let cones = [ZeroConeT(1), NonnegativeConeT(m_friction + 2)];
-    let settings = DefaultSettingsBuilder::default()
-        .verbose(false)
-        .max_iter(200)
-        .build()
-        .map_err(|e| LimitError::Setup(e.to_string()))?;
-    let mut solver = DefaultSolver::new(&p, &c, &a, &b, &cones, settings)
-        .map_err(|e| LimitError::Setup(e.to_string()))?;
-    solver.solve();
-    let sol = &solver.solution;
-    match sol.status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => {}
-        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
-            return Err(LimitError::Infeasible { center })
-        }
-        SolverStatus::DualInfeasible | SolverStatus::AlmostDualInfeasible => {
-            return Err(LimitError::Unbounded)
-        }
-        SolverStatus::MaxIterations => {
-            return Err(LimitError::MaxIterations {
-                iterations: sol.iterations,
-            })
-        }
-        other => {
-            return Err(LimitError::Numerical {
-                status: format!("{other:?}"),
-            })
-        }
-    }
-    let load_factor = sol.x[n];
-    if !load_factor.is_finite() {
-        return Err(LimitError::Numerical {
-            status: "non-finite optimum".into(),
-        });
-    }
-    if load_factor >= LAMBDA_CAP * (1.0 - 1e-6) {
-        return Err(LimitError::Unbounded);
-    }
-    let mean = sol.x[..n].iter().sum::<f64>() / n as f64;
-    let slip: Vec<f64> = sol.x[..n].iter().map(|g| g - mean).collect();
-
-    let mut check = Contact::new(*material, ops);
-    check.set_slip(&slip);
-    let max_violation = times
+    // Most samples of a fine ellipse are slack at the optimum. Solve on a
+    // coarse subset, add the samples the optimum violates, and repeat: the
+    // final optimum satisfies every sample, so it is the optimum of the full
+    // programme, at a fraction of its size.
+    let all: Vec<usize> = (0..times.len()).collect();
+    let mut active: Vec<usize> = all
         .iter()
-        .map(|&t| {
-            let load = Cycle::new(center, load_factor, slope, phase)
-                .map(|c| c.at(t))
-                .unwrap_or(center);
-            let (p, q) = check.tractions_at(load);
-            p.iter()
-                .zip(&q)
-                .map(|(p, q)| q.abs() - f * p)
-                .fold(f64::MIN, f64::max)
-        })
-        .fold(f64::MIN, f64::max);
+        .copied()
+        .step_by((times.len() / 8).max(1))
+        .collect();
+    let mut iterations = 0;
+    let (slip, load_factor, max_violation) = loop {
+        let (slip, load_factor, its) = lp.solve(&active)?;
+        iterations += its;
+        let violation: Vec<(usize, f64)> = lp
+            .violations(&slip, load_factor)
+            .into_iter()
+            .enumerate()
+            .collect();
+        let max_violation = violation.iter().map(|v| v.1).fold(f64::MIN, f64::max);
+        let missing: Vec<usize> = violation
+            .iter()
+            .filter(|(k, v)| *v > CUT_TOLERANCE && !active.contains(k))
+            .map(|(k, _)| *k)
+            .collect();
+        if missing.is_empty() {
+            break (slip, load_factor, max_violation);
+        }
+        active.extend(missing);
+        active.sort_unstable();
+    };
 
     let lower_bound = if line {
         load_factor
@@ -267,8 +189,155 @@ pub fn shakedown_limit(
         times,
         line,
         max_violation,
-        iterations: sol.iterations,
+        iterations,
     })
+}
+
+/// A sample that violates the friction law by more than this (in units of
+/// `p0`) at the optimum of the subset joins the programme.
+const CUT_TOLERANCE: f64 = 1e-9;
+
+/// The `lambda_2` programme's data.
+struct Programme<'a> {
+    ops: &'a Operators,
+    friction: f64,
+    center: LoadPoint,
+    p_center: Vec<f64>,
+    q_center: Vec<f64>,
+    /// Elastic traction change per unit lambda at each sample: `(dp, dq)`.
+    rates: Vec<(Vec<f64>, Vec<f64>)>,
+}
+
+impl Programme<'_> {
+    /// The optimum `(g, lambda)` with the friction law imposed at the
+    /// samples `subset`, and the interior-point iterations taken.
+    fn solve(&self, subset: &[usize]) -> Result<(Vec<f64>, f64, u32), LimitError> {
+        let n = self.p_center.len();
+        let f = self.friction;
+        // Rows: 0 is `mean g = 0`; then for each sample, node j and sign s
+        // the friction inequality; then `-lambda <= 0` and `lambda <= cap`.
+        let m_friction = 2 * n * subset.len();
+        let rows = 1 + m_friction + 2;
+        let row_of = |k: usize, j: usize, s: usize| 1 + (k * n + j) * 2 + s;
+        let signs = [1.0, -1.0];
+
+        let mut colptr = Vec::with_capacity(n + 2);
+        let mut rowval = Vec::new();
+        let mut nzval = Vec::new();
+        colptr.push(0);
+        for col in 0..n {
+            rowval.push(0);
+            nzval.push(1.0 / n as f64);
+            let (h, d) = (self.ops.hilbert_col(col), self.ops.abs_derivative_col(col));
+            for k in 0..subset.len() {
+                for j in 0..n {
+                    for (si, s) in signs.iter().enumerate() {
+                        // s q - f p with q = -|D| g, p = H g
+                        let v = -s * d[j] - f * h[j];
+                        if v != 0.0 {
+                            rowval.push(row_of(k, j, si));
+                            nzval.push(v);
+                        }
+                    }
+                }
+            }
+            colptr.push(nzval.len());
+        }
+        for (k, &sample) in subset.iter().enumerate() {
+            let (dp, dq) = &self.rates[sample];
+            for j in 0..n {
+                for (si, s) in signs.iter().enumerate() {
+                    let v = s * dq[j] - f * dp[j];
+                    if v != 0.0 {
+                        rowval.push(row_of(k, j, si));
+                        nzval.push(v);
+                    }
+                }
+            }
+        }
+        rowval.push(rows - 2);
+        nzval.push(-1.0);
+        rowval.push(rows - 1);
+        nzval.push(1.0);
+        colptr.push(nzval.len());
+        let a = CscMatrix::new(rows, n + 1, colptr, rowval, nzval);
+
+        let mut b = vec![0.0; rows];
+        for k in 0..subset.len() {
+            for j in 0..n {
+                for (si, s) in signs.iter().enumerate() {
+                    b[row_of(k, j, si)] = f * self.p_center[j] - s * self.q_center[j];
+                }
+            }
+        }
+        b[rows - 1] = LAMBDA_CAP;
+
+        let p = CscMatrix::<f64>::zeros((n + 1, n + 1));
+        let mut c = vec![0.0; n + 1];
+        c[n] = -1.0;
+        let cones = [ZeroConeT(1), NonnegativeConeT(m_friction + 2)];
+        let settings = DefaultSettingsBuilder::default()
+            .verbose(false)
+            .max_iter(200)
+            .build()
+            .map_err(|e| LimitError::Setup(e.to_string()))?;
+        let mut solver = DefaultSolver::new(&p, &c, &a, &b, &cones, settings)
+            .map_err(|e| LimitError::Setup(e.to_string()))?;
+        solver.solve();
+        let sol = &solver.solution;
+        match sol.status {
+            SolverStatus::Solved | SolverStatus::AlmostSolved => {}
+            SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
+                return Err(LimitError::Infeasible {
+                    center: self.center,
+                })
+            }
+            SolverStatus::DualInfeasible | SolverStatus::AlmostDualInfeasible => {
+                return Err(LimitError::Unbounded)
+            }
+            SolverStatus::MaxIterations => {
+                return Err(LimitError::MaxIterations {
+                    iterations: sol.iterations,
+                })
+            }
+            other => {
+                return Err(LimitError::Numerical {
+                    status: format!("{other:?}"),
+                })
+            }
+        }
+        let load_factor = sol.x[n];
+        if !load_factor.is_finite() {
+            return Err(LimitError::Numerical {
+                status: "non-finite optimum".into(),
+            });
+        }
+        if load_factor >= LAMBDA_CAP * (1.0 - 1e-6) {
+            return Err(LimitError::Unbounded);
+        }
+        let mean = sol.x[..n].iter().sum::<f64>() / n as f64;
+        let slip = sol.x[..n].iter().map(|g| g - mean).collect();
+        Ok((slip, load_factor, sol.iterations))
+    }
+
+    /// At every sample, the largest `|q| - f p` over the nodes at
+    /// `lambda` with the locked-in slip `g`.
+    fn violations(&self, slip: &[f64], load_factor: f64) -> Vec<f64> {
+        let hg = self.ops.residual_pressure(slip);
+        let dg = self.ops.residual_shear(slip);
+        self.rates
+            .iter()
+            .map(|(dp, dq)| {
+                (0..slip.len())
+                    .map(|j| {
+                        let p = self.p_center[j] + load_factor * dp[j] + hg[j];
+                        let q = self.q_center[j] + load_factor * dq[j] + dg[j];
+                        q.abs() - self.friction * p
+                    })
+                    .fold(f64::MIN, f64::max)
+            })
+            .collect()
+    }
 }
 
 /// The optimal slip of the `lambda_2` problem for `cycle` (its `lambda` is

@@ -111,6 +111,32 @@ fn lambda_2_lies_right_of_every_transient_shakedown() {
 }
 
 #[test]
+fn a_phase_sweep_resolves_the_optimal_slip_per_phase() {
+    // lambda_2 is 4.90 in phase and 5.02 at phi = pi/2: at lambda = 4.96 the
+    // optimal slip of each phase shakes down out of phase only, which it
+    // can only do if the slip was recomputed for that phase.
+    let (l0, l1) = (limit(0.0), limit(0.5 * PI));
+    let lambda = 0.5 * (l0.load_factor + l1.lower_bound);
+    assert!(l0.load_factor < lambda - 0.02 && lambda + 0.02 < l1.lower_bound);
+    let spec = SweepSpec {
+        material: Material::paper(),
+        disc: Discretisation::new(NODES, STEPS).unwrap(),
+        options: StepOptions::default(),
+        center: LoadPoint::new(PI, 0.75 * PI),
+        slope: 0.625,
+        load_factors: vec![lambda],
+        phases: vec![0.0, 0.5 * PI],
+        initials: vec![Initial::Optimal],
+    };
+    let rows = spec.run(&spec.jobs(), &|_| {}, &Default::default());
+    assert_eq!(rows.len(), 2);
+    assert!(rows.iter().all(|r| r.initial == "optimal"));
+    let state = |k: usize| rows[k].outcome.as_ref().unwrap().state;
+    assert_ne!(state(0), SteadyState::Shakedown, "{:?}", rows[0]);
+    assert_eq!(state(1), SteadyState::Shakedown, "{:?}", rows[1]);
+}
+
+#[test]
 fn limit_command_prints_lambda_2_and_writes_the_slip() {
     let dir = scratch("limit-cli");
     let csv = dir.join("g.csv");

@@ -10,7 +10,7 @@ use anyhow::{anyhow, Result};
 use clap::Args;
 use shakedown::case::Case;
 use shakedown::figure::draw::{write_svg_png, DissipationPlot, MemoryPlot, SlipMapPlot};
-use shakedown::figure::{memory_csv, memory_points, memory_runs, slip_map, SlipMap};
+use shakedown::figure::{memory_csv, memory_points, memory_runs, slip_map, FigureError, SlipMap};
 use shakedown::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
 use shakedown::parse::{parse_angle, parse_number, parse_values};
 use shakedown::preset::{Axis, FigureKind, FigureSpec, Preset};
@@ -101,8 +101,7 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             let limit = limit_of(&fig, &spec)?;
             let jobs = spec.jobs();
             let bar = progress(jobs.len());
-            let runs = memory_runs(&spec, &|| bar.inc(1))
-                .map_err(|e| anyhow!(InputError(e.to_string())))?;
+            let runs = memory_runs(&spec, &|| bar.inc(1)).map_err(input)?;
             bar.finish_and_clear();
             let points = memory_points(&runs);
             write(&file(".csv"), &memory_csv(&points))?;
@@ -125,7 +124,7 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
         }
         FigureKind::SlipMap => {
             let case = single_case(&args, &preset)?;
-            let map = slip_map(&case)?;
+            let map = slip_map(&case).map_err(input)?;
             write(&file(".csv"), &map.csv())?;
             write(&file("_load.csv"), &map.load_csv())?;
             written.push(file(".csv"));
@@ -142,6 +141,17 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     }
     println!("took {:.1} s", started.elapsed().as_secs_f64());
     Ok(ExitCode::SUCCESS)
+}
+
+/// A figure the chosen parameters cannot give is the user's input;
+/// numerical failures are not.
+fn input(e: FigureError) -> anyhow::Error {
+    match e {
+        FigureError::NoTransient(_) | FigureError::NoSteadyCycle { .. } => {
+            anyhow!(InputError(e.to_string()))
+        }
+        other => anyhow!(other),
+    }
 }
 
 fn sweep_spec(args: &FigureArgs, preset: &Preset) -> Result<SweepSpec> {

@@ -84,6 +84,7 @@ const GREY: RGBColor = RGBColor(120, 120, 120);
 const AMBER: RGBColor = RGBColor(230, 140, 0);
 const DARK_RED: RGBColor = RGBColor(200, 0, 0);
 const DARK_BLUE: RGBColor = RGBColor(0, 60, 220);
+const GREEN_LINE: RGBColor = RGBColor(0, 140, 60);
 
 /// How one point is marked.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -596,7 +597,7 @@ impl Drawing for SlipMapPlot<'_> {
         let hi = load.iter().map(|p| p.1.max(p.2)).fold(f64::MIN, f64::max);
         let (lo, hi) = padded(lo, hi);
         let mut chart = ChartBuilder::on(&right)
-            .caption("(b) load variation", font(16.0))
+            .caption("(b) load: χP/(f p₀ a) black, T/(f p₀ a²) green", font(16.0))
             .margin(12)
             .x_label_area_size(48)
             .y_label_area_size(52)
@@ -613,25 +614,19 @@ impl Drawing for SlipMapPlot<'_> {
             .y_label_formatter(&pi_label)
             .draw()
             .map_err(s)?;
-        let black = BLACK.stroke_width(2);
+        // The series are named in the caption: a legend box would cover
+        // the curves, which fill the panel.
         chart
-            .draw_series(LineSeries::new(load.iter().map(|p| (p.1, p.0)), black))
-            .map_err(s)?
-            .label("χP / (f p₀ a)")
-            .legend(move |(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], black));
-        let green = RGBColor(0, 140, 60).stroke_width(2);
+            .draw_series(LineSeries::new(
+                load.iter().map(|p| (p.1, p.0)),
+                BLACK.stroke_width(2),
+            ))
+            .map_err(s)?;
         chart
-            .draw_series(LineSeries::new(load.iter().map(|p| (p.2, p.0)), green))
-            .map_err(s)?
-            .label("T / (f p₀ a²)")
-            .legend(move |(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], green));
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(font(14.0))
-            .draw()
+            .draw_series(LineSeries::new(
+                load.iter().map(|p| (p.2, p.0)),
+                GREEN_LINE.stroke_width(2),
+            ))
             .map_err(s)?;
         Ok(())
     }
