@@ -499,14 +499,13 @@ fn case_params(ctx: &Ctx, c: &CaseToml) -> Result<CaseParams, PresetError> {
             None => ctx.whole(message),
         });
     }
-    let initial_ok =
-        p.initial.eq_ignore_ascii_case("optimal") || Initial::parse(&p.initial).is_ok();
-    if !initial_ok {
-        let e = Initial::parse(&p.initial).expect_err("checked above");
-        return Err(match &c.initial {
-            Some(v) => ctx.at(v.span(), format!("case.initial: {e}")),
-            None => ctx.whole(format!("case.initial: {e}")),
-        });
+    if !p.initial.eq_ignore_ascii_case("optimal") {
+        if let Err(e) = Initial::parse(&p.initial) {
+            return Err(match &c.initial {
+                Some(v) => ctx.at(v.span(), format!("case.initial: {e}")),
+                None => ctx.whole(format!("case.initial: {e}")),
+            });
+        }
     }
     Ok(p)
 }

@@ -231,13 +231,21 @@ impl Drawing for DissipationPlot<'_> {
             xs.fold(f64::MIN, f64::max),
         );
         let wmax = pts.iter().map(|p| p.1).fold(0.0, f64::max);
-        let y1 = if wmax > 0.0 { 1.08 * wmax } else { 1e-3 };
+        // Against phi the points span the whole width: leave headroom for
+        // the legend above them.
+        let headroom = match self.axis {
+            Axis::Lambda => 1.08,
+            Axis::Phi => 1.5,
+        };
+        let y1 = if wmax > 0.0 { headroom * wmax } else { 1e-3 };
 
+        // Enough decimals for two significant digits at the top of the axis.
+        let decimals = ((-y1.log10()).ceil().max(0.0) as usize + 1).min(12);
         let mut chart = ChartBuilder::on(root)
             .caption(&self.title, font(20.0))
             .margin(14)
             .x_label_area_size(48)
-            .y_label_area_size(78)
+            .y_label_area_size(90)
             .build_cartesian_2d(x0..x1, 0.0..y1)
             .map_err(s)?;
         let x_desc = match self.axis {
@@ -251,7 +259,7 @@ impl Drawing for DissipationPlot<'_> {
             .y_desc(W_LABEL)
             .axis_desc_style(font(20.0))
             .label_style(font(14.0))
-            .y_label_formatter(&|v| format!("{v:.3}"))
+            .y_label_formatter(&|v| format!("{v:.decimals$}"))
             .draw()
             .map_err(s)?;
 
@@ -459,7 +467,7 @@ impl Drawing for MemoryPlot<'_> {
             chart
                 .draw_series(std::iter::once(Text::new(
                     format!("{name} = {v:.3}"),
-                    (v + 0.01 * (x1 - x0), 0.96 * ymax),
+                    (v + 0.01 * (x1 - x0), 0.55 * ymax),
                     font(15.0),
                 )))
                 .map_err(s)?;
