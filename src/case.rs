@@ -6,6 +6,7 @@ use std::f64::consts::PI;
 
 use serde::Serialize;
 
+use crate::limit::LimitError;
 use crate::params::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
 use crate::path::{Initial, PathError};
 use crate::stepper::{StepOptions, Stepper};
@@ -19,8 +20,8 @@ pub enum CaseError {
     Path(#[from] PathError),
     #[error("max-cycles = {0} is out of range: expected 1 to 100000")]
     MaxCycles(usize),
-    #[error("initial path 'optimal' needs the lambda_2 limit analysis: {0}")]
-    Optimal(String),
+    #[error("initial path 'optimal': {0}")]
+    Optimal(#[from] LimitError),
 }
 
 /// The raw parameters of a case as a user gives them (all optional fields
@@ -117,8 +118,7 @@ pub fn resolve_initial(
     disc: &Discretisation,
 ) -> Result<Initial, CaseError> {
     if name.trim().eq_ignore_ascii_case("optimal") {
-        return crate::limit::optimal_initial(material, cycle, disc)
-            .map_err(|e| CaseError::Optimal(e.to_string()));
+        return crate::limit::optimal_initial(material, cycle, disc).map_err(CaseError::Optimal);
     }
     Ok(Initial::parse(name)?)
 }

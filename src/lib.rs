@@ -4,14 +4,18 @@
 //!
 //! Layout: [`params`] (inputs), [`contact`] (operators and the incremental
 //! solver), [`path`] (transients and the cycle), [`stepper`] (one increment
-//! at a time, with events), [`steady`] (convergence and classification).
+//! at a time, with events), [`steady`] (convergence and classification),
+//! [`sweep`] (batch runs), [`limit`] (`lambda_2` by linear programming),
+//! [`preset`] (the paper's cases as TOML) and [`figure`] (their plots).
 
 pub mod case;
 pub mod contact;
+pub mod figure;
 pub mod limit;
 pub mod params;
 pub mod parse;
 pub mod path;
+pub mod preset;
 pub mod steady;
 pub mod stepper;
 pub mod sweep;

@@ -21,6 +21,10 @@ pub enum PathError {
         "initial point {0},{1} (units of pi/4) is not one of the paper's 24: |a| and |b| must be 3, 5 or 7 with |a|+|b| > 8"
     )]
     NotPaperPoint(i32, i32),
+    #[error("initial point '{0}' needs two numbers a,b (units of pi/4)")]
+    HalfPoint(String),
+    #[error("the list of initial paths is empty")]
+    EmptyList,
     #[error("custom path point {index} is not finite")]
     NotFinite { index: usize },
 }
@@ -37,6 +41,13 @@ pub enum Initial {
     /// Start at `A` with this locked-in slip and no transient (model.md
     /// section 7: the optimal slip of the `lambda_2` problem).
     Slip { name: String, slip: Arc<Vec<f64>> },
+    /// The optimal slip of the `lambda_2` problem, not yet computed: it
+    /// depends on the cycle's phase, so a sweep over `phi` resolves it once
+    /// per phase ([`crate::sweep::SweepSpec::run`]), and a single case
+    /// resolves it with [`crate::limit::optimal_initial`]. A stepper given
+    /// this unresolved marker would start at `A` with no slip, so resolve it
+    /// first.
+    Optimal,
 }
 
 impl Initial {
@@ -62,6 +73,7 @@ impl Initial {
             Initial::Via { a, b } => format!("{a},{b}"),
             Initial::Custom(_) => "custom".into(),
             Initial::Slip { name, .. } => name.clone(),
+            Initial::Optimal => "optimal".into(),
         }
     }
 
@@ -89,6 +101,44 @@ impl Initial {
         Ok(Initial::Via { a, b })
     }
 
+    /// Parse a list such as `all`, `OA,7,-7,3,7` or `all,optimal`: `all` is
+    /// the paper's 25, `optimal` the (unresolved) [`Initial::Optimal`], and a
+    /// point takes two numbers. Repeats are dropped, keeping the first.
+    pub fn parse_list(text: &str) -> Result<Vec<Initial>, PathError> {
+        let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+        let mut out: Vec<Initial> = Vec::new();
+        let push = |i: Initial, out: &mut Vec<Initial>| {
+            if !out.contains(&i) {
+                out.push(i);
+            }
+        };
+        let mut k = 0;
+        while k < parts.len() {
+            let p = parts[k];
+            if p.parse::<i32>().is_ok() {
+                let q = parts
+                    .get(k + 1)
+                    .ok_or_else(|| PathError::HalfPoint(p.to_string()))?;
+                push(Initial::parse(&format!("{p},{q}"))?, &mut out);
+                k += 2;
+                continue;
+            }
+            if p.eq_ignore_ascii_case("all") {
+                for i in Initial::paper_set() {
+                    push(i, &mut out);
+                }
+            } else if p.eq_ignore_ascii_case("optimal") {
+                push(Initial::Optimal, &mut out);
+            } else if p.is_empty() && parts.len() == 1 {
+                return Err(PathError::EmptyList);
+            } else {
+                push(Initial::parse(p)?, &mut out);
+            }
+            k += 1;
+        }
+        Ok(out)
+    }
+
     /// A custom transient through the given load-plane points.
     pub fn custom(points: Vec<LoadPoint>) -> Result<Initial, PathError> {
         if let Some(index) = points
@@ -110,7 +160,7 @@ impl Initial {
                 w.push(LoadPoint::new(*a as f64 * FRAC_PI_4, *b as f64 * FRAC_PI_4));
             }
             Initial::Custom(points) => w.extend(points.iter().copied()),
-            Initial::Slip { .. } => return vec![center],
+            Initial::Slip { .. } | Initial::Optimal => return vec![center],
         }
         w.push(center);
         w
@@ -210,5 +260,22 @@ mod tests {
         for i in Initial::paper_set() {
             assert_eq!(Initial::parse(&i.name()).unwrap(), i);
         }
+    }
+
+    #[test]
+    fn parse_lists() {
+        let l = Initial::parse_list("all,optimal").unwrap();
+        assert_eq!(l.len(), 26);
+        assert_eq!(l[25], Initial::Optimal);
+        assert_eq!(
+            Initial::parse_list("OA, 7,-7 ,oa").unwrap(),
+            vec![Initial::Direct, Initial::Via { a: 7, b: -7 }]
+        );
+        assert!(matches!(
+            Initial::parse_list("OA,7"),
+            Err(PathError::HalfPoint(_))
+        ));
+        assert!(matches!(Initial::parse_list(""), Err(PathError::EmptyList)));
+        assert!(Initial::parse_list("OA,,7,7").is_err());
     }
 }

@@ -1,6 +1,9 @@
 //! Command-line interface. Each subcommand lives in its own file; this one
 //! holds the flags every case shares and the error-to-exit-code mapping.
 
+mod figure;
+mod limit;
+mod presets;
 mod run;
 mod sweep;
 
@@ -11,6 +14,7 @@ use clap::{Args, Parser, Subcommand};
 use shakedown::case::{Case, CaseParams};
 use shakedown::params::Plane;
 use shakedown::parse::{parse_angle, parse_number, parse_point};
+use shakedown::preset::Preset;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -33,17 +37,18 @@ enum Command {
     Sweep(sweep::SweepArgs),
     /// Open the terminal explorer (the default).
     Tui(TuiArgs),
+    /// List the built-in presets (the paper's figures).
+    Presets,
+    /// Reproduce one of the paper's figures: data as CSV, plot as SVG and PNG.
+    Figure(figure::FigureArgs),
+    /// The shakedown limit lambda_2 by linear programming, and its optimal slip.
+    Limit(limit::LimitArgs),
 }
 
-/// Flags that define one case. Unset flags keep the paper's values.
+/// Flags of the model and its discretisation, shared by every command.
+/// Unset flags keep the preset's (or the paper's) values.
 #[derive(Debug, Clone, Default, Args)]
-pub struct CaseArgs {
-    /// Load factor lambda (eq. 12).
-    #[arg(long, value_name = "LAMBDA", allow_hyphen_values = true)]
-    pub lambda: Option<String>,
-    /// Phase phi between torque and force, radians or multiples of pi (0.5pi, pi/2).
-    #[arg(long, value_name = "ANGLE", allow_hyphen_values = true)]
-    pub phi: Option<String>,
+pub struct ModelArgs {
     /// Slope psi of the load line (eq. 13).
     #[arg(long, value_name = "PSI", allow_hyphen_values = true)]
     pub psi: Option<String>,
@@ -59,9 +64,6 @@ pub struct CaseArgs {
     /// Plane strain or plane stress.
     #[arg(long, value_name = "strain|stress")]
     pub plane: Option<String>,
-    /// Initial path: OA, one of the 24 points as a,b in units of pi/4 (e.g. 7,-7), or optimal.
-    #[arg(long, value_name = "NAME", allow_hyphen_values = true)]
-    pub initial: Option<String>,
     /// Nodes round the interface (even, 16..4096).
     #[arg(long, value_name = "N")]
     pub nodes: Option<String>,
@@ -71,6 +73,31 @@ pub struct CaseArgs {
     /// Cycle cap before a run is reported not-converged.
     #[arg(long, value_name = "CYCLES")]
     pub max_cycles: Option<String>,
+}
+
+/// Flags that define one case. Unset flags keep the preset's (or the
+/// paper's) values.
+#[derive(Debug, Clone, Default, Args)]
+pub struct CaseArgs {
+    /// Start from a preset: a built-in name (see `shakedown presets`) or a path to a .toml file.
+    #[arg(long, value_name = "NAME|FILE")]
+    pub preset: Option<String>,
+    /// Load factor lambda (eq. 12).
+    #[arg(long, value_name = "LAMBDA", allow_hyphen_values = true)]
+    pub lambda: Option<String>,
+    /// Phase phi between torque and force, radians or multiples of pi (0.5pi, pi/2).
+    #[arg(long, value_name = "ANGLE", allow_hyphen_values = true)]
+    pub phi: Option<String>,
+    /// Initial path: OA, one of the 24 points as a,b in units of pi/4 (e.g. 7,-7), or optimal.
+    #[arg(long, value_name = "NAME", allow_hyphen_values = true)]
+    pub initial: Option<String>,
+    #[command(flatten)]
+    pub model: ModelArgs,
+}
+
+/// Load a preset named by a flag; a bad one is an input error.
+pub fn load_preset(flag: &str, name: &str) -> Result<Preset> {
+    shakedown::preset::load(name).map_err(|e| anyhow!(InputError(format!("{flag} {name}: {e}"))))
 }
 
 fn flag<T>(
@@ -90,18 +117,10 @@ fn count(text: &str) -> Result<usize> {
         .map_err(|_| anyhow!("'{text}' is not a whole number"))
 }
 
-impl CaseArgs {
-    /// Apply the flags that were given on top of `base`.
-    pub fn apply(&self, mut p: CaseParams, with_lambda_phi: bool) -> Result<CaseParams> {
+impl ModelArgs {
+    /// Apply the flags that were given on top of `p`.
+    pub fn apply(&self, mut p: CaseParams) -> Result<CaseParams> {
         let num = |t: &str| parse_number(t).map_err(anyhow::Error::from);
-        if with_lambda_phi {
-            if let Some(v) = flag("lambda", &self.lambda, num)? {
-                p.load_factor = v;
-            }
-            if let Some(v) = flag("phi", &self.phi, |t| parse_angle(t).map_err(Into::into))? {
-                p.phase = v;
-            }
-        }
         if let Some(v) = flag("psi", &self.psi, num)? {
             p.slope = v;
         }
@@ -121,9 +140,6 @@ impl CaseArgs {
         })? {
             p.plane = v;
         }
-        if let Some(v) = &self.initial {
-            p.initial = v.clone();
-        }
         if let Some(v) = flag("nodes", &self.nodes, count)? {
             p.nodes = v;
         }
@@ -132,6 +148,39 @@ impl CaseArgs {
         }
         if let Some(v) = flag("max-cycles", &self.max_cycles, count)? {
             p.max_cycles = v;
+        }
+        Ok(p)
+    }
+}
+
+impl CaseArgs {
+    /// The preset given with `--preset`, if any.
+    pub fn preset(&self) -> Result<Option<Preset>> {
+        self.preset
+            .as_deref()
+            .map(|name| load_preset("--preset", name))
+            .transpose()
+    }
+
+    /// The parameters the flags apply to: the preset's, else `default`.
+    pub fn base(&self, default: CaseParams) -> Result<CaseParams> {
+        Ok(self.preset()?.map_or(default, |p| p.params))
+    }
+
+    /// Apply the flags that were given on top of `base`.
+    pub fn apply(&self, p: CaseParams, with_lambda_phi: bool) -> Result<CaseParams> {
+        let mut p = self.model.apply(p)?;
+        let num = |t: &str| parse_number(t).map_err(anyhow::Error::from);
+        if with_lambda_phi {
+            if let Some(v) = flag("lambda", &self.lambda, num)? {
+                p.load_factor = v;
+            }
+            if let Some(v) = flag("phi", &self.phi, |t| parse_angle(t).map_err(Into::into))? {
+                p.phase = v;
+            }
+        }
+        if let Some(v) = &self.initial {
+            p.initial = v.clone();
         }
         Ok(p)
     }
@@ -173,6 +222,9 @@ pub fn main() -> ExitCode {
         Some(Command::Run(a)) => run::run(a),
         Some(Command::Sweep(a)) => sweep::sweep(a),
         Some(Command::Tui(a)) => tui(a),
+        Some(Command::Presets) => presets::presets(),
+        Some(Command::Figure(a)) => figure::figure(a),
+        Some(Command::Limit(a)) => limit::limit(a),
     };
     match result {
         Ok(code) => code,
@@ -202,12 +254,14 @@ fn is_input_error(e: &anyhow::Error) -> bool {
             || c.is::<shakedown::case::CaseError>()
             || c.is::<shakedown::params::ParamError>()
             || c.is::<shakedown::path::PathError>()
+            || c.is::<shakedown::preset::PresetError>()
     }) || e.root_cause().to_string().contains("is not a whole number")
         || e.root_cause().to_string().contains("is not a plane")
 }
 
 fn tui(args: TuiArgs) -> Result<ExitCode> {
-    let (_, case) = args.case.case(shakedown::tui::default_params())?;
+    let base = args.case.base(shakedown::tui::default_params())?;
+    let (_, case) = args.case.case(base)?;
     // Before anything touches the terminal, so a pipe gets no escape codes
     // and the exit status says "bad input" rather than "failed".
     shakedown::tui::terminal::check_tty().map_err(|e| anyhow!(InputError(e.to_string())))?;

@@ -21,7 +21,8 @@ pub struct RunArgs {
 }
 
 pub fn run(args: RunArgs) -> Result<ExitCode> {
-    let (params, case) = args.case.case(CaseParams::default())?;
+    let base = args.case.base(CaseParams::default())?;
+    let (params, case) = args.case.case(base)?;
     let mut stepper = case.stepper();
     let summary = stepper.run_to_steady()?;
     let history: Vec<f64> = stepper.history().iter().map(|r| r.dissipation).collect();

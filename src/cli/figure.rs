@@ -1,0 +1,219 @@
+//! `shakedown figure NAME --out DIR`: run a preset and write its data as
+//! CSV and its plot as SVG and PNG.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use anyhow::{anyhow, Result};
+use clap::Args;
+use shakedown::case::Case;
+use shakedown::figure::draw::{write_svg_png, DissipationPlot, MemoryPlot, SlipMapPlot};
+use shakedown::figure::{memory_csv, memory_points, memory_runs, slip_map, FigureError, SlipMap};
+use shakedown::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
+use shakedown::parse::{parse_angle, parse_number, parse_values};
+use shakedown::preset::{Axis, FigureKind, FigureSpec, Preset};
+use shakedown::sweep::{SweepSpec, CSV_HEADER};
+
+use super::sweep::{progress, spec, warn_failures, ListArgs};
+use super::{load_preset, InputError, ModelArgs};
+
+#[derive(Debug, Args)]
+pub struct FigureArgs {
+    /// The figure: a built-in preset (fig3 ... fig9, see `shakedown presets`) or a path to a .toml file.
+    #[arg(value_name = "NAME|FILE")]
+    pub name: String,
+    /// Directory to write NAME.csv, NAME.svg and NAME.png into (created if missing).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub lists: ListArgs,
+    #[command(flatten)]
+    pub model: ModelArgs,
+}
+
+fn write(path: &Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--out: cannot write {}: {e}",
+            path.display()
+        )))
+    })
+}
+
+pub fn figure(args: FigureArgs) -> Result<ExitCode> {
+    let preset = load_preset("figure", &args.name)?;
+    let Some(fig) = preset.figure.clone() else {
+        return Err(anyhow!(InputError(format!(
+            "figure {}: {} has no [figure] table, so there is nothing to draw",
+            args.name, preset.file
+        ))));
+    };
+    std::fs::create_dir_all(&args.out).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--out {}: cannot create the directory: {e}",
+            args.out.display()
+        )))
+    })?;
+    let stem = preset.name.clone();
+    let file = |ext: &str| args.out.join(format!("{stem}{ext}"));
+    let title = fig
+        .title
+        .clone()
+        .unwrap_or_else(|| preset.description.clone());
+    let started = Instant::now();
+    let mut written = Vec::new();
+    match fig.kind {
+        FigureKind::Dissipation => {
+            let spec = sweep_spec(&args, &preset)?;
+            let limit = limit_of(&fig, &spec)?;
+            let jobs = spec.jobs();
+            let bar = progress(jobs.len());
+            let rows = spec.run(&jobs, &|_| bar.inc(1), &AtomicBool::new(false));
+            bar.finish_and_clear();
+            warn_failures(&rows);
+            let mut csv = format!("{CSV_HEADER}\n");
+            for r in &rows {
+                csv.push_str(&r.csv_line());
+                csv.push('\n');
+            }
+            write(&file(".csv"), &csv)?;
+            written.push(file(".csv"));
+            if let Some(l) = &limit {
+                write_limit(&file("_limit.csv"), l, spec.disc.nodes())?;
+                written.push(file("_limit.csv"));
+                println!("lambda_2 = {:.6} (linear programme)", l.load_factor);
+            }
+            let plot = DissipationPlot {
+                rows: &rows,
+                axis: fig.axis,
+                ratchetting: fig.ratchetting,
+                lines: fig.lines,
+                title,
+                limit: limit.as_ref().map(|l| l.load_factor),
+            };
+            write_svg_png(&plot, &file(".svg"), &file(".png"))?;
+            println!("{} runs", rows.len());
+        }
+        FigureKind::Memory => {
+            let spec = sweep_spec(&args, &preset)?;
+            let limit = limit_of(&fig, &spec)?;
+            let jobs = spec.jobs();
+            let bar = progress(jobs.len());
+            let runs = memory_runs(&spec, &|| bar.inc(1)).map_err(input)?;
+            bar.finish_and_clear();
+            let points = memory_points(&runs);
+            write(&file(".csv"), &memory_csv(&points))?;
+            written.push(file(".csv"));
+            if let Some(l) = &limit {
+                write_limit(&file("_limit.csv"), l, spec.disc.nodes())?;
+                written.push(file("_limit.csv"));
+                println!("lambda_2 = {:.6} (linear programme)", l.load_factor);
+            }
+            if let Some(l3) = MemoryPlot::ratchetting_onset(&points) {
+                println!("lambda_3 = {l3} (every transient ratchets from here on)");
+            }
+            let plot = MemoryPlot {
+                points: &points,
+                title,
+                limit: limit.as_ref().map(|l| l.load_factor),
+            };
+            write_svg_png(&plot, &file(".svg"), &file(".png"))?;
+            println!("{} runs", runs.len());
+        }
+        FigureKind::SlipMap => {
+            let case = single_case(&args, &preset)?;
+            let map = slip_map(&case).map_err(input)?;
+            write(&file(".csv"), &map.csv())?;
+            write(&file("_load.csv"), &map.load_csv())?;
+            written.push(file(".csv"));
+            written.push(file("_load.csv"));
+            describe(&map);
+            let plot = SlipMapPlot { map: &map, title };
+            write_svg_png(&plot, &file(".svg"), &file(".png"))?;
+        }
+    }
+    written.push(file(".svg"));
+    written.push(file(".png"));
+    for w in &written {
+        println!("wrote {}", w.display());
+    }
+    println!("took {:.1} s", started.elapsed().as_secs_f64());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A figure the chosen parameters cannot give is the user's input;
+/// numerical failures are not.
+fn input(e: FigureError) -> anyhow::Error {
+    match e {
+        FigureError::NoTransient(_) | FigureError::NoSteadyCycle { .. } => {
+            anyhow!(InputError(e.to_string()))
+        }
+        other => anyhow!(other),
+    }
+}
+
+fn sweep_spec(args: &FigureArgs, preset: &Preset) -> Result<SweepSpec> {
+    spec(
+        &args.model,
+        &args.lists,
+        preset.params.clone(),
+        Some(&preset.sweep),
+    )
+}
+
+/// `lambda_2` when the figure marks it and the sweep has one phase.
+fn limit_of(fig: &FigureSpec, spec: &SweepSpec) -> Result<Option<Limit>> {
+    if !fig.limit || fig.axis != Axis::Lambda || spec.phases.len() != 1 {
+        return Ok(None);
+    }
+    let l = shakedown_limit(
+        &spec.material,
+        spec.center,
+        spec.slope,
+        spec.phases[0],
+        &spec.disc,
+        DEFAULT_SAMPLES,
+    )?;
+    Ok(Some(l))
+}
+
+fn write_limit(path: &Path, l: &Limit, nodes: usize) -> Result<()> {
+    write(path, &super::limit::slip_csv(l, nodes))
+}
+
+/// The one case of a slip map: the preset's, with at most one value from
+/// each list flag.
+fn single_case(args: &FigureArgs, preset: &Preset) -> Result<Case> {
+    let mut p = args.model.apply(preset.params.clone())?;
+    let one = |flag: &str, text: &Option<String>, item: fn(&str) -> _| -> Result<Option<f64>> {
+        let Some(t) = text else { return Ok(None) };
+        let v: Vec<f64> =
+            parse_values(t, item).map_err(|e| anyhow!(InputError(format!("--{flag} {t}: {e}"))))?;
+        if v.len() != 1 {
+            return Err(anyhow!(InputError(format!(
+                "--{flag} {t}: a slip map draws one case, so give one value"
+            ))));
+        }
+        Ok(Some(v[0]))
+    };
+    if let Some(v) = one("lambda", &args.lists.lambdas, parse_number)? {
+        p.load_factor = v;
+    }
+    if let Some(v) = one("phi", &args.lists.phis, parse_angle)? {
+        p.phase = v;
+    }
+    if let Some(t) = &args.lists.initials {
+        p.initial = t.clone();
+    }
+    Case::from_params(&p).map_err(|e| anyhow!(InputError(e.to_string())))
+}
+
+fn describe(map: &SlipMap) {
+    let s = &map.summary;
+    println!(
+        "steady state: {} after {} cycles, W = {:.6e}, rotation {:.3e} per cycle",
+        s.state, s.cycles, s.dissipation, s.rotation_per_cycle
+    );
+}

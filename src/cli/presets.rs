@@ -1,0 +1,28 @@
+//! `shakedown presets`: the built-in presets, one line each.
+
+use std::process::ExitCode;
+
+use anyhow::Result;
+
+pub fn presets() -> Result<ExitCode> {
+    let all = shakedown::preset::builtin();
+    let width = shakedown::preset::BUILTIN
+        .iter()
+        .map(|(n, _)| n.len())
+        .max()
+        .unwrap_or(0);
+    let mut code = ExitCode::SUCCESS;
+    for ((name, _), preset) in shakedown::preset::BUILTIN.iter().zip(all) {
+        match preset {
+            Ok(p) => println!("{name:width$}  {}", p.description),
+            Err(e) => {
+                eprintln!("error: {e}");
+                code = ExitCode::from(1);
+            }
+        }
+    }
+    println!();
+    println!("Use one with --preset NAME (run, sweep, tui) or `shakedown figure NAME --out DIR`;");
+    println!("a path to your own .toml works too (copy one from presets/ to start).");
+    Ok(code)
+}

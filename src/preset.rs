@@ -1,0 +1,650 @@
+//! Presets: the paper's cases as plain, commented TOML files that a user can
+//! copy and edit (`presets/*.toml`). The built-in ones are compiled into
+//! the binary, so it works from any directory; a name with a `/` or ending
+//! in `.toml` is read from disk instead.
+//!
+//! A preset has a `[case]` table (the base parameters, keys as the command
+//! line flags), a `[sweep]` table (the swept lists) and a `[figure]` table
+//! (what `shakedown figure` draws). Every key is optional except
+//! `description`; missing ones keep the paper's values. Unknown keys are
+//! rejected, and every error names the file, the line and the problem.
+
+use std::ops::Range;
+
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::case::CaseParams;
+use crate::params::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
+use crate::parse::{parse_angle, parse_number, parse_values, ParseError};
+use crate::path::Initial;
+
+/// The built-in presets: name and TOML text, in listing order.
+pub const BUILTIN: [(&str, &str); 7] = [
+    ("fig3", include_str!("../presets/fig3.toml")),
+    ("fig4", include_str!("../presets/fig4.toml")),
+    ("fig5", include_str!("../presets/fig5.toml")),
+    ("fig6", include_str!("../presets/fig6.toml")),
+    ("fig7", include_str!("../presets/fig7.toml")),
+    ("fig8", include_str!("../presets/fig8.toml")),
+    ("fig9", include_str!("../presets/fig9.toml")),
+];
+
+/// A preset that cannot be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PresetError {
+    #[error("preset '{name}' is not known: expected one of {known}, or a path to a .toml file")]
+    Unknown { name: String, known: String },
+    #[error("{file}: cannot read the preset: {message}")]
+    Read { file: String, message: String },
+    #[error("{file}:{line}: {message}")]
+    Invalid {
+        file: String,
+        line: usize,
+        message: String,
+    },
+    #[error("{file}: {message}")]
+    InvalidFile { file: String, message: String },
+}
+
+/// What `shakedown figure` draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FigureKind {
+    /// Steady-state `W` with state markers against `lambda` or `phi`
+    /// (Figs. 3, 6, 8, 9).
+    Dissipation,
+    /// The memory measures `R` and `r` against `lambda` (Fig. 4).
+    Memory,
+    /// Slip zones over one steady cycle next to the load variation
+    /// (Figs. 5, 7).
+    SlipMap,
+}
+
+/// The swept variable on the horizontal axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Axis {
+    Lambda,
+    Phi,
+}
+
+/// How ratchetting is marked: the paper uses two conventions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RatchettingMarkers {
+    /// Fig. 3: a red dot with a blue edge for any ratchetting.
+    Edge,
+    /// Fig. 8: a blue circle for monotonic, a blue circle with a red dot
+    /// for non-monotonic ratchetting.
+    Monotonicity,
+}
+
+/// The `[figure]` table, resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FigureSpec {
+    pub kind: FigureKind,
+    pub axis: Axis,
+    pub ratchetting: RatchettingMarkers,
+    /// Mark `lambda_2` (by linear programming) on the plot.
+    pub limit: bool,
+    /// Join the points of each series (one series per value of the
+    /// variable not on the axis, and per initial path).
+    pub lines: bool,
+    /// Plot title; the preset's description when absent.
+    pub title: Option<String>,
+}
+
+/// The swept lists of a preset.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweepLists {
+    pub load_factors: Vec<f64>,
+    pub phases: Vec<f64>,
+    /// Initial paths; `optimal` is [`Initial::Optimal`], resolved per phase.
+    pub initials: Vec<Initial>,
+}
+
+/// A loaded, validated preset.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Preset {
+    pub name: String,
+    pub description: String,
+    /// Where it came from, as named in errors (`presets/fig3.toml`).
+    pub file: String,
+    /// The base case.
+    pub params: CaseParams,
+    pub sweep: SweepLists,
+    pub figure: Option<FigureSpec>,
+}
+
+/// Names of the built-in presets, comma separated.
+pub fn builtin_names() -> String {
+    BUILTIN.map(|(n, _)| n).join(", ")
+}
+
+/// Load a built-in preset by name, or a file when `name` contains a path
+/// separator or ends in `.toml`.
+pub fn load(name: &str) -> Result<Preset, PresetError> {
+    let looks_like_path = name.contains('/') || name.contains('\\') || name.ends_with(".toml");
+    if looks_like_path {
+        let text = std::fs::read_to_string(name).map_err(|e| PresetError::Read {
+            file: name.to_string(),
+            message: e.to_string(),
+        })?;
+        let stem = std::path::Path::new(name)
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or(name);
+        return parse(&text, name, stem);
+    }
+    let found = BUILTIN
+        .iter()
+        .find(|(n, _)| n.eq_ignore_ascii_case(name.trim()));
+    match found {
+        Some((n, text)) => parse(text, &format!("presets/{n}.toml"), n),
+        None => Err(PresetError::Unknown {
+            name: name.to_string(),
+            known: builtin_names(),
+        }),
+    }
+}
+
+/// Every built-in preset, parsed.
+pub fn builtin() -> Vec<Result<Preset, PresetError>> {
+    BUILTIN
+        .iter()
+        .map(|(n, text)| parse(text, &format!("presets/{n}.toml"), n))
+        .collect()
+}
+
+/// A number as a preset writes it: a TOML number, or a string read as an
+/// angle (`"pi/2"`, `"0.75pi"`).
+#[derive(Debug, Clone, PartialEq)]
+enum Num {
+    Number(f64),
+    Text(String),
+}
+
+struct NumVisitor;
+
+impl<'de> Visitor<'de> for NumVisitor {
+    type Value = Num;
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a number, or a string such as \"pi/2\"")
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Num, E> {
+        Ok(Num::Number(v))
+    }
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Num, E> {
+        Ok(Num::Number(v as f64))
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Num, E> {
+        Ok(Num::Number(v as f64))
+    }
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<Num, E> {
+        Ok(Num::Text(v.to_string()))
+    }
+}
+
+impl<'de> Deserialize<'de> for Num {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(NumVisitor)
+    }
+}
+
+impl Num {
+    fn angle(&self) -> Result<f64, ParseError> {
+        match self {
+            Num::Number(v) => Ok(*v),
+            Num::Text(t) => parse_angle(t),
+        }
+    }
+    fn number(&self) -> Result<f64, ParseError> {
+        match self {
+            Num::Number(v) => Ok(*v),
+            Num::Text(t) => parse_number(t),
+        }
+    }
+}
+
+/// A swept list: a number, a string (a list `"1,2,3"` or a range
+/// `"start:stop:step"`), or an array of numbers.
+#[derive(Debug, Clone, PartialEq)]
+enum Values {
+    One(Num),
+    Many(Vec<Num>),
+}
+
+struct ValuesVisitor;
+
+impl<'de> Visitor<'de> for ValuesVisitor {
+    type Value = Values;
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a number, a list or range as a string (\"3:7.5:0.05\"), or an array")
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Values, E> {
+        Ok(Values::One(Num::Number(v)))
+    }
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Values, E> {
+        Ok(Values::One(Num::Number(v as f64)))
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Values, E> {
+        Ok(Values::One(Num::Number(v as f64)))
+    }
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<Values, E> {
+        Ok(Values::One(Num::Text(v.to_string())))
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Values, A::Error> {
+        let mut out = Vec::new();
+        while let Some(v) = seq.next_element::<Num>()? {
+            out.push(v);
+        }
+        Ok(Values::Many(out))
+    }
+}
+
+impl<'de> Deserialize<'de> for Values {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(ValuesVisitor)
+    }
+}
+
+impl Values {
+    fn read(&self, item: impl Fn(&str) -> Result<f64, ParseError>) -> Result<Vec<f64>, String> {
+        let out = match self {
+            Values::One(Num::Number(v)) => vec![*v],
+            Values::One(Num::Text(t)) => parse_values(t, &item).map_err(|e| e.to_string())?,
+            Values::Many(items) => items
+                .iter()
+                .map(|n| match n {
+                    Num::Number(v) => Ok(*v),
+                    Num::Text(t) => item(t),
+                })
+                .collect::<Result<Vec<f64>, ParseError>>()
+                .map_err(|e| e.to_string())?,
+        };
+        if out.is_empty() {
+            return Err("the list is empty".into());
+        }
+        Ok(out)
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileToml {
+    name: Option<Spanned<String>>,
+    description: Spanned<String>,
+    #[serde(default)]
+    case: CaseToml,
+    #[serde(default)]
+    sweep: SweepToml,
+    figure: Option<FigureToml>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+struct CaseToml {
+    lambda: Option<Spanned<Num>>,
+    phi: Option<Spanned<Num>>,
+    psi: Option<Spanned<Num>>,
+    center: Option<Spanned<Vec<Num>>>,
+    friction: Option<Spanned<Num>>,
+    nu: Option<Spanned<Num>>,
+    plane: Option<Spanned<Plane>>,
+    initial: Option<Spanned<String>>,
+    nodes: Option<Spanned<usize>>,
+    steps: Option<Spanned<usize>>,
+    max_cycles: Option<Spanned<usize>>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SweepToml {
+    lambda: Option<Spanned<Values>>,
+    phi: Option<Spanned<Values>>,
+    initial: Option<Spanned<String>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FigureToml {
+    kind: Spanned<FigureKind>,
+    x: Option<Spanned<Axis>>,
+    ratchetting: Option<RatchettingMarkers>,
+    limit: Option<bool>,
+    lines: Option<bool>,
+    title: Option<String>,
+}
+
+/// 1-based line of a byte offset.
+fn line_of(text: &str, offset: usize) -> usize {
+    let end = offset.min(text.len());
+    text.as_bytes()[..end]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
+}
+
+struct Ctx<'a> {
+    text: &'a str,
+    file: &'a str,
+}
+
+impl Ctx<'_> {
+    fn at(&self, span: Range<usize>, message: impl Into<String>) -> PresetError {
+        PresetError::Invalid {
+            file: self.file.to_string(),
+            line: line_of(self.text, span.start),
+            message: message.into(),
+        }
+    }
+    fn whole(&self, message: impl Into<String>) -> PresetError {
+        PresetError::InvalidFile {
+            file: self.file.to_string(),
+            message: message.into(),
+        }
+    }
+}
+
+/// Parse and validate preset text. `file` names it in errors; `default_name`
+/// is used when the file has no `name`.
+pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Preset, PresetError> {
+    let ctx = Ctx { text, file };
+    let raw: FileToml = toml::from_str(text).map_err(|e| {
+        let message = e.message().trim().to_string();
+        match e.span() {
+            Some(span) => ctx.at(span, message),
+            None => ctx.whole(message),
+        }
+    })?;
+    let name = raw
+        .name
+        .as_ref()
+        .map(|n| n.get_ref().trim().to_string())
+        .unwrap_or_else(|| default_name.to_string());
+    if let Some(n) = &raw.name {
+        if n.get_ref().trim().is_empty() {
+            return Err(ctx.at(n.span(), "name: must not be empty"));
+        }
+    }
+    let description = raw.description.get_ref().trim().to_string();
+    if description.is_empty() || description.contains('\n') {
+        return Err(ctx.at(
+            raw.description.span(),
+            "description: must be one non-empty line",
+        ));
+    }
+
+    let params = case_params(&ctx, &raw.case)?;
+    let sweep = sweep_lists(&ctx, &raw.sweep, &params)?;
+    let figure = raw
+        .figure
+        .as_ref()
+        .map(|f| figure_spec(&ctx, f, &sweep))
+        .transpose()?;
+    Ok(Preset {
+        name,
+        description,
+        file: file.to_string(),
+        params,
+        sweep,
+        figure,
+    })
+}
+
+fn case_params(ctx: &Ctx, c: &CaseToml) -> Result<CaseParams, PresetError> {
+    let mut p = CaseParams::default();
+    let number = |key: &str, v: &Spanned<Num>| {
+        v.get_ref()
+            .number()
+            .map_err(|e| ctx.at(v.span(), format!("case.{key}: {e}")))
+    };
+    let angle = |key: &str, v: &Spanned<Num>| {
+        v.get_ref()
+            .angle()
+            .map_err(|e| ctx.at(v.span(), format!("case.{key}: {e}")))
+    };
+    if let Some(v) = &c.lambda {
+        p.load_factor = number("lambda", v)?;
+    }
+    if let Some(v) = &c.phi {
+        p.phase = angle("phi", v)?;
+    }
+    if let Some(v) = &c.psi {
+        p.slope = number("psi", v)?;
+    }
+    if let Some(v) = &c.center {
+        let items = v.get_ref();
+        if items.len() != 2 {
+            return Err(ctx.at(
+                v.span(),
+                format!(
+                    "case.center: expected two values [x0, y0], found {}",
+                    items.len()
+                ),
+            ));
+        }
+        let read = |n: &Num| {
+            n.angle()
+                .map_err(|e| ctx.at(v.span(), format!("case.center: {e}")))
+        };
+        p.center = (read(&items[0])?, read(&items[1])?);
+    }
+    if let Some(v) = &c.friction {
+        p.friction = number("friction", v)?;
+    }
+    if let Some(v) = &c.nu {
+        p.poisson = number("nu", v)?;
+    }
+    if let Some(v) = &c.plane {
+        p.plane = *v.get_ref();
+    }
+    if let Some(v) = &c.initial {
+        p.initial = v.get_ref().trim().to_string();
+    }
+    if let Some(v) = &c.nodes {
+        p.nodes = *v.get_ref();
+    }
+    if let Some(v) = &c.steps {
+        p.steps = *v.get_ref();
+    }
+    if let Some(v) = &c.max_cycles {
+        p.max_cycles = *v.get_ref();
+    }
+
+    // Validate each group of values and point at the key that is wrong.
+    let span_of = |name: &str| -> Option<Range<usize>> {
+        match name {
+            "lambda" => c.lambda.as_ref().map(Spanned::span),
+            "phi" => c.phi.as_ref().map(Spanned::span),
+            "psi" => c.psi.as_ref().map(Spanned::span),
+            "x0" | "y0" | "center" => c.center.as_ref().map(Spanned::span),
+            "friction" => c.friction.as_ref().map(Spanned::span),
+            "nu" => c.nu.as_ref().map(Spanned::span),
+            "nodes" => c.nodes.as_ref().map(Spanned::span),
+            "steps" => c.steps.as_ref().map(Spanned::span),
+            _ => None,
+        }
+    };
+    let param_error = |e: ParamError| {
+        let name = match &e {
+            ParamError::NotFinite { name, .. }
+            | ParamError::OutOfRange { name, .. }
+            | ParamError::BadCount { name, .. } => *name,
+        };
+        match span_of(name) {
+            Some(span) => ctx.at(span, format!("case: {e}")),
+            None => ctx.whole(format!("case: {e}")),
+        }
+    };
+    Material::new(p.friction, p.poisson, p.plane).map_err(param_error)?;
+    Cycle::new(
+        LoadPoint::new(p.center.0, p.center.1),
+        p.load_factor,
+        p.slope,
+        p.phase,
+    )
+    .map_err(param_error)?;
+    Discretisation::new(p.nodes, p.steps).map_err(param_error)?;
+    if !(1..=100_000).contains(&p.max_cycles) {
+        let message = format!(
+            "case.max-cycles = {} is out of range: expected 1 to 100000",
+            p.max_cycles
+        );
+        return Err(match &c.max_cycles {
+            Some(v) => ctx.at(v.span(), message),
+            None => ctx.whole(message),
+        });
+    }
+    if !p.initial.eq_ignore_ascii_case("optimal") {
+        if let Err(e) = Initial::parse(&p.initial) {
+            return Err(match &c.initial {
+                Some(v) => ctx.at(v.span(), format!("case.initial: {e}")),
+                None => ctx.whole(format!("case.initial: {e}")),
+            });
+        }
+    }
+    Ok(p)
+}
+
+fn sweep_lists(ctx: &Ctx, s: &SweepToml, p: &CaseParams) -> Result<SweepLists, PresetError> {
+    let load_factors = match &s.lambda {
+        Some(v) => v
+            .get_ref()
+            .read(parse_number)
+            .map_err(|e| ctx.at(v.span(), format!("sweep.lambda: {e}")))?,
+        None => vec![p.load_factor],
+    };
+    let phases = match &s.phi {
+        Some(v) => v
+            .get_ref()
+            .read(parse_angle)
+            .map_err(|e| ctx.at(v.span(), format!("sweep.phi: {e}")))?,
+        None => vec![p.phase],
+    };
+    let center = LoadPoint::new(p.center.0, p.center.1);
+    for &l in &load_factors {
+        if let Err(e) = Cycle::new(center, l, p.slope, p.phase) {
+            let span = s.lambda.as_ref().map(Spanned::span).unwrap_or(0..0);
+            return Err(ctx.at(span, format!("sweep.lambda: {e}")));
+        }
+    }
+    for &phi in &phases {
+        if let Err(e) = Cycle::new(center, p.load_factor, p.slope, phi) {
+            let span = s.phi.as_ref().map(Spanned::span).unwrap_or(0..0);
+            return Err(ctx.at(span, format!("sweep.phi: {e}")));
+        }
+    }
+    let initials = match &s.initial {
+        Some(v) => Initial::parse_list(v.get_ref())
+            .map_err(|e| ctx.at(v.span(), format!("sweep.initial: {e}")))?,
+        None => {
+            Initial::parse_list(&p.initial).map_err(|e| ctx.whole(format!("case.initial: {e}")))?
+        }
+    };
+    Ok(SweepLists {
+        load_factors,
+        phases,
+        initials,
+    })
+}
+
+fn figure_spec(ctx: &Ctx, f: &FigureToml, sweep: &SweepLists) -> Result<FigureSpec, PresetError> {
+    let kind = *f.kind.get_ref();
+    let axis = f.x.as_ref().map(|a| *a.get_ref()).unwrap_or(Axis::Lambda);
+    if kind == FigureKind::Memory {
+        if axis != Axis::Lambda {
+            let span = f.x.as_ref().map(Spanned::span).unwrap_or(f.kind.span());
+            return Err(ctx.at(span, "figure.x: the memory figure is drawn against lambda"));
+        }
+        if sweep.phases.len() != 1 {
+            return Err(ctx.at(
+                f.kind.span(),
+                "figure.kind = \"memory\" needs a single phase in [sweep] phi",
+            ));
+        }
+    }
+    Ok(FigureSpec {
+        kind,
+        axis,
+        ratchetting: f.ratchetting.unwrap_or(RatchettingMarkers::Edge),
+        limit: f.limit.unwrap_or(false),
+        lines: f.lines.unwrap_or(false),
+        title: f.title.clone(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn err(text: &str) -> PresetError {
+        parse(text, "my.toml", "my").unwrap_err()
+    }
+
+    #[test]
+    fn every_builtin_parses() {
+        for p in builtin() {
+            let p = p.unwrap();
+            assert!(p.figure.is_some(), "{}", p.name);
+        }
+    }
+
+    #[test]
+    fn errors_name_the_line() {
+        let e = err("description = \"x\"\n[case]\nfriction = -1\n");
+        assert!(
+            matches!(&e, PresetError::Invalid { line: 3, file, .. } if file == "my.toml"),
+            "{e}"
+        );
+        assert!(e.to_string().contains("friction"), "{e}");
+
+        let e = err("description = \"x\"\n\n[case]\nlamda = 3\n");
+        assert!(matches!(e, PresetError::Invalid { line: 4, .. }), "{e}");
+        assert!(e.to_string().contains("lamda"), "{e}");
+
+        let e = err("description = \"x\"\n[sweep]\nphi = \"0:pix:1\"\n");
+        assert!(matches!(e, PresetError::Invalid { line: 3, .. }), "{e}");
+
+        let e = err("description = \"x\"\n[case]\nnodes = 7\n");
+        assert!(matches!(e, PresetError::Invalid { line: 3, .. }), "{e}");
+
+        let e = err("description = \"x\"\n[sweep]\ninitial = \"OA,4,4\"\n");
+        assert!(matches!(e, PresetError::Invalid { line: 3, .. }), "{e}");
+
+        let e = err("description = \"x\"\n[figure]\nkind = \"pie\"\n");
+        assert!(matches!(e, PresetError::Invalid { line: 3, .. }), "{e}");
+
+        let e = err("description = \"x\n");
+        assert!(matches!(e, PresetError::Invalid { line: 1, .. }), "{e}");
+    }
+
+    #[test]
+    fn angles_and_defaults() {
+        let p = parse(
+            "description = \"d\"\n[case]\nphi = \"pi/2\"\ncenter = [\"pi\", 2]\n[sweep]\nlambda = [5, \"5.5\"]\n",
+            "f",
+            "f",
+        )
+        .unwrap();
+        assert!((p.params.phase - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+        assert_eq!(p.params.center.1, 2.0);
+        assert_eq!(p.sweep.load_factors, vec![5.0, 5.5]);
+        assert_eq!(p.sweep.phases, vec![p.params.phase]);
+        assert_eq!(p.sweep.initials, vec![Initial::Direct]);
+        assert_eq!(p.params.friction, CaseParams::default().friction);
+    }
+
+    #[test]
+    fn unknown_name() {
+        assert!(matches!(load("nope"), Err(PresetError::Unknown { .. })));
+        assert!(matches!(
+            load("/nonexistent/x.toml"),
+            Err(PresetError::Read { .. })
+        ));
+        assert_eq!(load("FIG3").unwrap().name, "fig3");
+    }
+}

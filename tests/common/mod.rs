@@ -1,0 +1,133 @@
+//! Helpers shared by the integration tests (included with `mod common`).
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Run the `shakedown` binary.
+pub fn shakedown(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A fresh, empty scratch directory for one test.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("shakedown-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A CSV file as its header and rows of fields (no quoted commas occur in
+/// this project's CSV except in the `initial` column, which is quoted).
+pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .expect("a header")
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines.map(split_csv_line).collect();
+    (header, rows)
+}
+
+fn split_csv_line(line: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut field = String::new();
+    let mut quoted = false;
+    for c in line.chars() {
+        match c {
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(std::mem::take(&mut field)),
+            _ => field.push(c),
+        }
+    }
+    out.push(field);
+    out
+}
+
+/// A light well-formedness check of an SVG document: the root is `<svg>`,
+/// every start tag is closed in order, and nothing follows the root.
+pub fn check_svg(text: &str) -> Result<(), String> {
+    let body = text.trim_start();
+    let body = if body.starts_with("<?xml") {
+        &body[body.find("?>").ok_or("unterminated XML declaration")? + 2..]
+    } else {
+        body
+    };
+    let mut stack: Vec<String> = Vec::new();
+    let mut rest = body.trim_start();
+    if !rest.starts_with("<svg") {
+        return Err("the document does not start with <svg".into());
+    }
+    let mut closed_root = false;
+    while let Some(open) = rest.find('<') {
+        if closed_root && !rest[..open].trim().is_empty() {
+            return Err("content after the root element".into());
+        }
+        rest = &rest[open..];
+        if rest.starts_with("<!--") {
+            let end = rest.find("-->").ok_or("unterminated comment")?;
+            rest = &rest[end + 3..];
+            continue;
+        }
+        let end = rest.find('>').ok_or("unterminated tag")?;
+        let tag = &rest[1..end];
+        rest = &rest[end + 1..];
+        if let Some(name) = tag.strip_prefix('/') {
+            let name = name.trim();
+            match stack.pop() {
+                Some(open) if open == name => {}
+                Some(open) => return Err(format!("</{name}> closes <{open}>")),
+                None => return Err(format!("</{name}> without a start tag")),
+            }
+            if stack.is_empty() {
+                closed_root = true;
+            }
+        } else {
+            if closed_root {
+                return Err("a second root element".into());
+            }
+            let name: String = tag
+                .chars()
+                .take_while(|c| !c.is_whitespace() && *c != '/')
+                .collect();
+            if name.is_empty() {
+                return Err("a tag without a name".into());
+            }
+            if !tag.ends_with('/') {
+                stack.push(name);
+            }
+        }
+    }
+    if !stack.is_empty() {
+        return Err(format!("unclosed elements: {stack:?}"));
+    }
+    if !closed_root {
+        return Err("the root element is not closed".into());
+    }
+    Ok(())
+}
+
+/// Width and height of a PNG file, after checking its signature.
+pub fn png_size(bytes: &[u8]) -> Option<(u32, u32)> {
+    const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a];
+    if bytes.len() < 24 || bytes[..8] != SIGNATURE || &bytes[12..16] != b"IHDR" {
+        return None;
+    }
+    let w = u32::from_be_bytes(bytes[16..20].try_into().ok()?);
+    let h = u32::from_be_bytes(bytes[20..24].try_into().ok()?);
+    Some((w, h))
+}
