@@ -6,6 +6,7 @@
 //! solver), [`path`] (transients and the cycle), [`stepper`] (one increment
 //! at a time, with events), [`steady`] (convergence and classification).
 
+pub mod batch;
 pub mod case;
 pub mod contact;
 pub mod limit;

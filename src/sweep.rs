@@ -7,16 +7,21 @@
 //! same whatever the thread count.
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::batch::{run_ordered, Abort, Interrupt, Progress};
 use crate::contact::Contact;
 use crate::params::{Cycle, Discretisation, LoadPoint, Material, ParamError};
 use crate::path::Initial;
 use crate::steady::SteadyState;
-use crate::stepper::{operators, StepError, StepOptions, Stepper, Summary};
+use crate::stepper::{operators, Status, StepError, StepOptions, Stepper, Summary};
+
+/// The contact at the cycle centre `A` after one initial path, or the
+/// summary of a transient that already ended (gross slip, separation).
+pub type Prepared = Result<Result<Contact, Summary>, StepError>;
 
 /// What a sweep runs: the product `load_factors x phases x initials`.
 #[derive(Debug, Clone)]
@@ -109,21 +114,23 @@ impl SweepSpec {
 
     /// The contact at `A` for each initial path (in parallel), or the
     /// summary of a transient that already ended in gross slip or separation.
-    pub fn prepare(&self) -> Vec<Result<Result<Contact, Summary>, StepError>> {
+    pub fn prepare(&self) -> Vec<Prepared> {
         let ops = operators(&self.disc);
         self.initials
             .par_iter()
-            .map(|initial| {
-                Stepper::prepare_at_center(
-                    Arc::clone(&ops),
-                    self.material,
-                    self.disc,
-                    initial,
-                    self.center,
-                    self.options,
-                )
-            })
+            .map(|initial| self.prepare_one(&ops, initial))
             .collect()
+    }
+
+    fn prepare_one(&self, ops: &Arc<crate::contact::Operators>, initial: &Initial) -> Prepared {
+        Stepper::prepare_at_center(
+            Arc::clone(ops),
+            self.material,
+            self.disc,
+            initial,
+            self.center,
+            self.options,
+        )
     }
 
     /// Run `jobs` (a subset of [`SweepSpec::jobs`]) in parallel. `done` is
@@ -131,14 +138,14 @@ impl SweepSpec {
     /// runs not yet started are skipped: the result then holds only the runs
     /// that finished, still in job order.
     pub fn run(&self, jobs: &[Job], done: &(dyn Fn(&Row) + Sync), cancel: &AtomicBool) -> Vec<Row> {
-        let prepared = self.prepare();
+        let lazy = LazyPrepared::new(self);
         let mut rows: Vec<Row> = jobs
             .par_iter()
             .filter_map(|job| {
                 if cancel.load(Ordering::Relaxed) {
                     return None;
                 }
-                let row = self.run_job(job, &prepared[job.initial]);
+                let row = self.run_job(job, lazy.get(self, job.initial), &|| false)?;
                 done(&row);
                 Some(row)
             })
@@ -147,7 +154,35 @@ impl SweepSpec {
         rows
     }
 
-    fn run_job(&self, job: &Job, prepared: &Result<Result<Contact, Summary>, StepError>) -> Row {
+    /// Run `jobs` and hand each row to `deliver` in job order, as soon as
+    /// it and all the rows before it are done (see
+    /// [`crate::batch::run_ordered`]). So an output written row by row is
+    /// always the start of the complete output. `interrupt` stops the
+    /// sweep: draining finishes the runs in progress, aborting drops them
+    /// at their next increment. Only the transients the jobs need are
+    /// computed, each once.
+    pub fn run_ordered<E>(
+        &self,
+        jobs: &[Job],
+        interrupt: &Interrupt,
+        mut deliver: impl FnMut(Row) -> Result<(), E>,
+    ) -> Result<Progress, E> {
+        let lazy = LazyPrepared::new(self);
+        run_ordered(
+            jobs,
+            interrupt,
+            |job, abort: Abort<'_>| {
+                if abort.requested() {
+                    return None;
+                }
+                self.run_job(job, lazy.get(self, job.initial), &|| abort.requested())
+            },
+            |_, row| deliver(row),
+        )
+    }
+
+    /// One run; `None` when `stop` asked it to give up.
+    fn run_job(&self, job: &Job, prepared: &Prepared, stop: &dyn Fn() -> bool) -> Option<Row> {
         let initial = self.initials[job.initial].name();
         let outcome = match prepared {
             Err(e) => Err(e.clone()),
@@ -156,14 +191,50 @@ impl SweepSpec {
                 let cycle = Cycle::new(self.center, job.load_factor, self.slope, job.phase)
                     .expect("validated before the sweep");
                 let mut s = Stepper::from_center(contact.clone(), cycle, self.disc, self.options);
-                s.run_to_steady()
+                // As `run_to_steady`, with a look at `stop` between increments.
+                let mut failure = None;
+                while matches!(s.status(), Status::Running) {
+                    if stop() {
+                        return None;
+                    }
+                    if let Err(e) = s.step() {
+                        failure = Some(e);
+                        break;
+                    }
+                }
+                match failure {
+                    Some(e) => Err(e),
+                    None => Ok(s.summary().cloned().expect("not running")),
+                }
             }
         };
-        Row {
+        Some(Row {
             job: *job,
             initial,
             outcome,
+        })
+    }
+}
+
+/// The contacts at `A`, computed on first use by whichever run needs them.
+struct LazyPrepared {
+    ops: OnceLock<Arc<crate::contact::Operators>>,
+    cells: Vec<OnceLock<Prepared>>,
+}
+
+impl LazyPrepared {
+    fn new(spec: &SweepSpec) -> Self {
+        Self {
+            ops: OnceLock::new(),
+            cells: spec.initials.iter().map(|_| OnceLock::new()).collect(),
         }
+    }
+
+    fn get(&self, spec: &SweepSpec, initial: usize) -> &Prepared {
+        self.cells[initial].get_or_init(|| {
+            let ops = self.ops.get_or_init(|| operators(&spec.disc));
+            spec.prepare_one(ops, &spec.initials[initial])
+        })
     }
 }
 

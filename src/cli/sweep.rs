@@ -1,21 +1,40 @@
 //! `shakedown sweep`: a grid of runs written as CSV.
 
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 use std::process::ExitCode;
-use std::sync::atomic::AtomicBool;
 
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use shakedown::case::{resolve_initial, Case, CaseParams};
+use shakedown::batch::Shard;
+use shakedown::case::{resolve_initial, Case, CaseError, CaseParams};
 use shakedown::parse::{parse_angle, parse_number, parse_values};
 use shakedown::path::Initial;
-use shakedown::sweep::{Row, SweepSpec};
+use shakedown::sweep::{Job, Row, SweepSpec};
 
-use super::{CaseArgs, InputError};
+use super::batch::{ctrl_c, is_broken_pipe, report_interrupt, Output};
+use super::{bad_flag, case_error, InputError, ModelArgs};
 
 #[derive(Debug, Args)]
 pub struct SweepArgs {
+    #[command(flatten)]
+    pub grid: GridArgs,
+    /// Write the CSV here instead of stdout.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<std::path::PathBuf>,
+    /// Continue an interrupted --out FILE: keep its complete rows, skip
+    /// those runs, append the rest (the result is the uninterrupted file).
+    #[arg(long)]
+    pub resume: bool,
+    /// Run only the K-th of N disjoint slices of the runs (1 <= K <= N):
+    /// runs K, K+N, K+2N, ... Join the slices with `shakedown merge`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+}
+
+/// The grid of a sweep: what `sweep` runs and what `merge` re-derives.
+#[derive(Debug, Args)]
+pub struct GridArgs {
     /// Load factors: a list (5,5.5,6) or a range start:stop:step (3:7.5:0.05).
     #[arg(long = "lambda", value_name = "LIST|RANGE", allow_hyphen_values = true)]
     pub lambdas: Option<String>,
@@ -25,11 +44,8 @@ pub struct SweepArgs {
     /// Initial paths: all (the paper's 25), or a list such as OA,7,-7 (points take two numbers).
     #[arg(long = "initial", value_name = "all|NAMES", allow_hyphen_values = true)]
     pub initials: Option<String>,
-    /// Write the CSV here instead of stdout.
-    #[arg(long, value_name = "FILE")]
-    pub out: Option<std::path::PathBuf>,
     #[command(flatten)]
-    pub case: CaseArgs,
+    pub model: ModelArgs,
 }
 
 /// Split `OA,7,-7,3,7` into `OA`, `7,-7`, `3,7`: names are `OA`, `optimal`
@@ -56,20 +72,26 @@ pub fn split_initials(text: &str) -> Result<Vec<String>> {
     Ok(out)
 }
 
-pub fn spec(args: &SweepArgs, base: CaseParams) -> Result<SweepSpec> {
-    let mut params = args.case.apply(base, false)?;
+pub fn spec(args: &GridArgs, base: CaseParams) -> Result<SweepSpec> {
+    let mut params = args.model.apply(base)?;
     let lambdas = match &args.lambdas {
-        Some(t) => parse_values(t, parse_number).with_context(|| format!("--lambda {t}"))?,
+        Some(t) => parse_values(t, parse_number).map_err(|e| bad_flag("lambda", t, e))?,
         None => vec![params.load_factor],
     };
     let phis = match &args.phis {
-        Some(t) => parse_values(t, parse_angle).with_context(|| format!("--phi {t}"))?,
+        Some(t) => parse_values(t, parse_angle).map_err(|e| bad_flag("phi", t, e))?,
         None => vec![params.phase],
+    };
+    let given = |flag: &str| match flag {
+        "lambda" => args.lambdas.clone(),
+        "phi" => args.phis.clone(),
+        "initial" => args.initials.clone(),
+        f => args.model.given(f),
     };
     params.load_factor = lambdas[0];
     params.phase = phis[0];
     params.initial = "OA".into();
-    let case = Case::from_params(&params).map_err(|e| anyhow!(InputError(e.to_string())))?;
+    let case = Case::from_params(&params).map_err(|e| case_error(e, given))?;
     let initials = match args.initials.as_deref().map(str::trim) {
         None => vec![Initial::Direct],
         Some(t) if t.eq_ignore_ascii_case("all") => Initial::paper_set(),
@@ -77,7 +99,7 @@ pub fn spec(args: &SweepArgs, base: CaseParams) -> Result<SweepSpec> {
             .iter()
             .map(|name| {
                 resolve_initial(name, &case.material, &case.cycle, &case.disc)
-                    .map_err(|e| anyhow!(InputError(format!("--initial {name}: {e}"))))
+                    .map_err(|e| bad_flag("initial", name, e))
             })
             .collect::<Result<_>>()?,
     };
@@ -92,11 +114,36 @@ pub fn spec(args: &SweepArgs, base: CaseParams) -> Result<SweepSpec> {
         initials,
     };
     spec.validate()
-        .map_err(|e| anyhow!(InputError(e.to_string())))?;
+        .map_err(|e| case_error(CaseError::Param(e), given))?;
     Ok(spec)
 }
 
 pub const HEADER: &str = "lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle";
+
+/// The identity of a job's line: its first three fields `lambda,phi,"initial"`.
+/// Every line of the CSV starts with its job's key and a comma.
+pub fn job_key(spec: &SweepSpec, job: &Job) -> String {
+    key(
+        job.load_factor,
+        job.phase,
+        &spec.initials[job.initial].name(),
+    )
+}
+
+fn key(load_factor: f64, phase: f64, initial: &str) -> String {
+    format!("{load_factor},{phase},\"{initial}\"")
+}
+
+/// The key of a CSV line (see [`job_key`]), or `None` when the line is not
+/// a complete row of [`HEADER`]'s seven columns.
+pub fn row_key(line: &str) -> Option<&str> {
+    let open = line.find(",\"")?;
+    let close = open + 2 + line[open + 2..].find('"')?;
+    let (key, rest) = line.split_at(close + 1);
+    let fields: Vec<&str> = rest.strip_prefix(',')?.split(',').collect();
+    let numbers = key[..open].split(',').count() == 2;
+    (numbers && fields.len() == 4 && fields.iter().all(|f| !f.is_empty())).then_some(key)
+}
 
 /// One CSV line (no newline). Numbers use Rust's shortest round-trip form,
 /// so the bytes do not depend on the platform or thread count.
@@ -106,10 +153,8 @@ pub fn csv_line(row: &Row) -> String {
         Err(_) => (f64::NAN, 0, f64::NAN),
     };
     format!(
-        "{},{},\"{}\",{},{},{},{}",
-        row.job.load_factor,
-        row.job.phase,
-        row.initial,
+        "{},{},{},{},{}",
+        key(row.job.load_factor, row.job.phase, &row.initial),
         row.state(),
         w,
         c,
@@ -117,40 +162,129 @@ pub fn csv_line(row: &Row) -> String {
     )
 }
 
-pub fn sweep(args: SweepArgs) -> Result<ExitCode> {
-    let spec = spec(&args, CaseParams::default())?;
-    let jobs = spec.jobs();
-    let mut out: Box<dyn Write> = match &args.out {
-        Some(path) => Box::new(std::io::BufWriter::new(
-            std::fs::File::create(path)
-                .map_err(|e| anyhow!(InputError(format!("--out {}: {e}", path.display()))))?,
-        )),
-        None => Box::new(std::io::BufWriter::new(std::io::stdout().lock())),
+/// The jobs of a sweep after `--shard`, and their line keys.
+pub fn shard_jobs(spec: &SweepSpec, shard: Option<&str>) -> Result<(Vec<Job>, Vec<String>)> {
+    let all = spec.jobs();
+    let jobs = match shard {
+        None => all,
+        Some(text) => Shard::parse(text)
+            .map_err(|e| anyhow!(InputError(format!("--shard {text}: {e}"))))?
+            .select(&all),
     };
+    let keys = jobs.iter().map(|j| job_key(spec, j)).collect();
+    Ok((jobs, keys))
+}
+
+pub fn sweep(args: SweepArgs) -> Result<ExitCode> {
+    let spec = spec(&args.grid, CaseParams::default())?;
+    let (jobs, keys) = shard_jobs(&spec, args.shard.as_deref())?;
+    let mut out = Output::open(args.out.as_deref(), args.resume, HEADER, &keys, row_key)?;
+    let todo = &jobs[out.kept..];
+    if out.kept > 0 {
+        eprintln!(
+            "resuming: {} of {} runs are already in {}",
+            out.kept,
+            jobs.len(),
+            out.describe()
+        );
+    }
+    if todo.is_empty() {
+        return Ok(ExitCode::SUCCESS);
+    }
+    let interrupt = ctrl_c()?;
     let bar = if std::io::stderr().is_terminal() {
         let b = ProgressBar::new(jobs.len() as u64);
         b.set_style(
             ProgressStyle::with_template("{bar:40} {pos}/{len} runs  {elapsed} (eta {eta})")
                 .expect("valid template"),
         );
+        b.set_position(out.kept as u64);
+        b.reset_eta();
         b
     } else {
         ProgressBar::hidden()
     };
-    let cancel = AtomicBool::new(false);
-    let rows = spec.run(&jobs, &|_| bar.inc(1), &cancel);
+    let mut failed = 0;
+    let result = spec.run_ordered(todo, interrupt, |row| {
+        out.line(&csv_line(&row))?;
+        bar.inc(1);
+        if let Err(e) = &row.outcome {
+            failed += 1;
+            bar.suspend(|| {
+                eprintln!(
+                    "warning: run lambda = {}, phi = {}, initial {} failed: {e}",
+                    row.job.load_factor, row.job.phase, row.initial
+                )
+            });
+        }
+        anyhow::Ok(())
+    });
     bar.finish_and_clear();
-    writeln!(out, "{HEADER}")?;
-    for row in &rows {
-        writeln!(out, "{}", csv_line(row))?;
+    match result {
+        Err(e) if is_broken_pipe(&e) => return Ok(ExitCode::SUCCESS),
+        Err(e) => return Err(e),
+        Ok(progress) if !progress.is_complete() => {
+            return Ok(report_interrupt(&out, jobs.len()));
+        }
+        Ok(_) => {}
     }
-    out.flush()?;
-    let failed = rows.iter().filter(|r| r.outcome.is_err()).count();
     if failed > 0 {
         eprintln!(
             "warning: {failed} of {} runs failed (state 'failed' in the CSV)",
-            rows.len()
+            todo.len()
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shakedown::stepper::StepError;
+    use shakedown::sweep::RowState;
+
+    #[test]
+    fn every_line_starts_with_its_key() {
+        let spec = spec(
+            &GridArgs {
+                lambdas: Some("0.5,1e-7".into()),
+                phis: Some("0,pi/3".into()),
+                initials: Some("OA,-7,3".into()),
+                model: ModelArgs::default(),
+            },
+            CaseParams::default(),
+        )
+        .unwrap();
+        for job in spec.jobs() {
+            let row = Row {
+                job,
+                initial: spec.initials[job.initial].name(),
+                outcome: Err(StepError::NotSettled {
+                    load: shakedown::LoadPoint::new(1.0, 2.0),
+                    phase: "cycle 1, increment 1".into(),
+                    bisections: 12,
+                }),
+            };
+            assert_eq!(row.state(), RowState::Failed);
+            let line = csv_line(&row);
+            assert!(line.contains(",failed,"), "{line}");
+            assert_eq!(
+                row_key(&line),
+                Some(job_key(&spec, &job).as_str()),
+                "{line}"
+            );
+        }
+        assert_eq!(HEADER.split(',').count(), 7);
+    }
+
+    #[test]
+    fn row_key_rejects_incomplete_lines() {
+        let line = "5.5,0,\"7,-7\",cyclic-slip,0.001,12,0";
+        assert_eq!(row_key(line), Some("5.5,0,\"7,-7\""));
+        for cut in 0..line.len() {
+            assert_eq!(row_key(&line[..cut]), None, "{}", &line[..cut]);
+        }
+        assert_eq!(row_key("a,b,c,d,e,f,g"), None);
+        assert_eq!(row_key("1,2,3,\"OA\",x,1,2,3"), None);
+    }
 }
