@@ -315,7 +315,7 @@ impl Discretisation {
     pub const MAX_STEPS: usize = 100_000;
 
     pub fn new(nodes: usize, steps_per_cycle: usize) -> Result<Self, ParamError> {
-        if !(Self::MIN_NODES..=Self::MAX_NODES).contains(&nodes) || nodes % 2 != 0 {
+        if !(Self::MIN_NODES..=Self::MAX_NODES).contains(&nodes) || !nodes.is_multiple_of(2) {
             return Err(ParamError::BadCount {
                 name: "nodes",
                 value: nodes,

@@ -117,7 +117,7 @@ pub fn parse_values(
             .map(|i| round12(start + step * i as f64))
             .collect());
     }
-    let values: Result<Vec<f64>, ParseError> = t.split(',').map(|s| item(s)).collect();
+    let values: Result<Vec<f64>, ParseError> = t.split(',').map(&item).collect();
     let values = values?;
     if values.len() > MAX_VALUES {
         return Err(ParseError::TooMany {

@@ -335,6 +335,9 @@ fn is_input_error(e: &anyhow::Error) -> bool {
 
 fn tui(args: TuiArgs) -> Result<ExitCode> {
     let (_, case) = args.case.case(shakedown::tui::default_params())?;
+    // Before anything touches the terminal, so a pipe gets no escape codes
+    // and the exit status says "bad input" rather than "failed".
+    shakedown::tui::terminal::check_tty().map_err(|e| anyhow!(InputError(e.to_string())))?;
     shakedown::tui::run(case)?;
     Ok(ExitCode::SUCCESS)
 }

@@ -2,6 +2,7 @@
 //! solver. Knows nothing of paths, cycles or any user interface.
 
 mod operators;
+mod reduced;
 mod solver;
 
 pub use operators::Operators;

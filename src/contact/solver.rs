@@ -10,13 +10,8 @@
 
 use std::f64::consts::PI;
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::lu::partial_pivoting::factor::{lu_in_place, lu_in_place_scratch};
-use faer::linalg::lu::partial_pivoting::solve::{solve_in_place, solve_in_place_scratch};
-use faer::perm::PermRef;
-use faer::{MatMut, MatRef, Par};
-
-use super::operators::Operators;
+use super::operators::{FftScratch, Operators};
+use super::reduced::ReducedSolver;
 use crate::params::{LoadPoint, Material};
 
 /// Direction of slip at one node during the last increment.
@@ -121,45 +116,34 @@ impl Trial {
 }
 
 /// Scratch space of the active-set iteration, kept between increments so
-/// that a run allocates almost nothing per increment. It also holds the LU
-/// factorisation of the last reduced system and the slip set it belongs to.
+/// that a run allocates little per increment, with the reduced-system
+/// solver and its factorisations.
+#[derive(Clone)]
 struct Workspace {
     p0: Vec<f64>,
     q0: Vec<f64>,
-    set: Vec<usize>,
+    set: Vec<(usize, f64)>,
     rhs: Vec<f64>,
-    /// Column-major `k x k` LU factors of the reduced system, `k = key.len()`.
-    lu: Vec<f64>,
-    perm: Vec<usize>,
-    perm_inv: Vec<usize>,
-    /// Slip set and directions the factorisation belongs to (empty: none).
-    key: Vec<(usize, SlipDirection)>,
-    stack: MemBuffer,
+    x: Vec<f64>,
+    pressure_change: Vec<f64>,
+    relief: Vec<f64>,
+    fft: FftScratch,
+    reduced: ReducedSolver,
 }
 
 impl Workspace {
     fn new(n: usize) -> Self {
-        let par = Par::Seq;
-        let req = lu_in_place_scratch::<usize, f64>(n, n, par, Default::default())
-            .or(solve_in_place_scratch::<usize, f64>(n, 1, par));
         Self {
             p0: vec![0.0; n],
             q0: vec![0.0; n],
             set: Vec::with_capacity(n),
             rhs: vec![0.0; n],
-            lu: vec![0.0; n * n],
-            perm: vec![0; n],
-            perm_inv: vec![0; n],
-            key: Vec::with_capacity(n),
-            stack: MemBuffer::new(req),
+            x: vec![0.0; n],
+            pressure_change: vec![0.0; n],
+            relief: vec![0.0; n],
+            fft: FftScratch::default(),
+            reduced: ReducedSolver::new(n),
         }
-    }
-}
-
-impl Clone for Workspace {
-    fn clone(&self) -> Self {
-        // Scratch only: a clone starts with an empty factorisation cache.
-        Workspace::new(self.p0.len())
     }
 }
 
@@ -178,7 +162,8 @@ pub struct Contact {
     pressure: Vec<f64>,
     shear: Vec<f64>,
     directions: Vec<SlipDirection>,
-    work: Workspace,
+    /// Taken out during a solve so the rest of `self` stays borrowable.
+    work: Option<Workspace>,
 }
 
 impl std::fmt::Debug for Contact {
@@ -207,7 +192,7 @@ impl Contact {
             pressure: vec![1.0; n],
             shear: vec![0.0; n],
             directions: vec![SlipDirection::Stick; n],
-            work: Workspace::new(n),
+            work: Some(Workspace::new(n)),
         };
         c.refresh();
         c
@@ -310,22 +295,9 @@ impl Contact {
     pub fn solve(&mut self, load: LoadPoint) -> Result<Trial, ContactError> {
         let n = self.nodes();
         let f = self.material.friction();
-        let mut w = std::mem::replace(
-            &mut self.work,
-            Workspace {
-                p0: Vec::new(),
-                q0: Vec::new(),
-                set: Vec::new(),
-                rhs: Vec::new(),
-                lu: Vec::new(),
-                perm: Vec::new(),
-                perm_inv: Vec::new(),
-                key: Vec::new(),
-                stack: MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
-            },
-        );
+        let mut w = self.work.take().unwrap_or_else(|| Workspace::new(n));
         let result = self.solve_with(load, f, n, &mut w);
-        self.work = w;
+        self.work = Some(w);
         result
     }
 
@@ -343,9 +315,9 @@ impl Contact {
 
         // Warm start: last increment's slip set plus every predictor violation.
         let mut dirs = self.directions.clone();
-        for j in 0..n {
-            if w.q0[j].abs() > f * w.p0[j] + TRACTION_TOL {
-                dirs[j] = SlipDirection::from_sign(w.q0[j]);
+        for ((d, &q0), &p0) in dirs.iter_mut().zip(&w.q0).zip(&w.p0) {
+            if q0.abs() > f * p0 + TRACTION_TOL {
+                *d = SlipDirection::from_sign(q0);
             }
         }
 
@@ -357,7 +329,11 @@ impl Contact {
         let mut q = w.q0.clone();
         for iteration in 1..=max_iterations {
             w.set.clear();
-            w.set.extend((0..n).filter(|&j| dirs[j].is_slipping()));
+            w.set.extend(
+                (0..n)
+                    .filter(|&j| dirs[j].is_slipping())
+                    .map(|j| (j, dirs[j].sign())),
+            );
             if w.set.len() == n {
                 return Err(ContactError::GrossSlip { load });
             }
@@ -366,22 +342,14 @@ impl Contact {
             q.copy_from_slice(&w.q0);
             if !w.set.is_empty() {
                 let k = w.set.len();
-                let same = w.key.len() == k
-                    && w.key.iter().all(|&(j, d)| dirs[j] == d && d.is_slipping())
-                    && w.key.iter().zip(&w.set).all(|(a, &b)| a.0 == b);
-                if !same {
-                    self.factorise(w, &dirs);
-                    factorisations += 1;
+                for (r, &(j, s)) in w.rhs.iter_mut().zip(&w.set) {
+                    *r = -(w.q0[j] - s * f * w.p0[j]);
                 }
-                for (a, &j) in w.set.iter().enumerate() {
-                    w.rhs[a] = -(w.q0[j] - dirs[j].sign() * f * w.p0[j]);
-                }
-                let lu = MatRef::from_column_major_slice(&w.lu[..k * k], k, k);
-                let perm = PermRef::new_checked(&w.perm[..k], &w.perm_inv[..k], k);
-                let rhs = MatMut::from_column_major_slice_mut(&mut w.rhs[..k], k, 1);
-                solve_in_place(lu, lu, perm, rhs, Par::Seq, MemStack::new(&mut w.stack));
-                for (a, &col) in w.set.iter().enumerate() {
-                    let d = w.rhs[a];
+                let before = w.reduced.factorisations;
+                w.reduced
+                    .solve(&self.ops, f, &w.set, &w.rhs[..k], &mut w.x[..k]);
+                factorisations += w.reduced.factorisations - before;
+                for (&d, &(col, _)) in w.x[..k].iter().zip(&w.set) {
                     if !d.is_finite() {
                         return Err(ContactError::NotSettled {
                             load,
@@ -389,20 +357,18 @@ impl Contact {
                         });
                     }
                     dg[col] = d;
-                    let hcol = self.ops.hilbert_col(col);
-                    let dcol = self.ops.abs_derivative_col(col);
-                    for (pj, hj) in p.iter_mut().zip(hcol) {
-                        *pj += hj * d;
-                    }
-                    for (qj, dj) in q.iter_mut().zip(dcol) {
-                        *qj -= dj * d;
-                    }
+                }
+                self.ops
+                    .apply_both(&dg, &mut w.pressure_change, &mut w.relief, &mut w.fft);
+                for j in 0..n {
+                    p[j] = w.p0[j] + w.pressure_change[j];
+                    q[j] = w.q0[j] - w.relief[j];
                 }
             }
 
-            let scale = w.set.iter().map(|&j| dg[j].abs()).fold(0.0, f64::max);
+            let scale = w.set.iter().map(|&(j, _)| dg[j].abs()).fold(0.0, f64::max);
             let mut changed = false;
-            for &j in &w.set {
+            for &(j, _) in &w.set {
                 if dirs[j].sign() * dg[j] < -DG_TOL * scale {
                     dirs[j] = SlipDirection::Stick;
                     changed = true;
@@ -449,15 +415,19 @@ impl Contact {
                     factorisations,
                 });
             }
-            let h = fingerprint(&dirs);
-            if seen.contains(&h) {
-                break;
+            // Most increments settle in one to three passes; only a longer
+            // search is watched for revisiting a slip set (a cycle).
+            if iteration > 4 {
+                let h = fingerprint(&dirs);
+                if seen.contains(&h) {
+                    break;
+                }
+                seen.push(h);
             }
-            seen.push(h);
         }
         Err(ContactError::NotSettled {
             load,
-            iterations: seen.len() + 1,
+            iterations: max_iterations.min(seen.len() + 5),
         })
     }
 
@@ -472,30 +442,6 @@ impl Contact {
             p[j] = 1.0 - pr * self.sin[j] + self.residual_pressure[j];
             q[j] = -qt - qr * self.cos[j] + self.residual_shear[j];
         }
-    }
-
-    /// LU of `(-|D| - f diag(s) H)_SS` for the slip set in `w.set`.
-    fn factorise(&self, w: &mut Workspace, dirs: &[SlipDirection]) {
-        let f = self.material.friction();
-        let k = w.set.len();
-        w.key.clear();
-        w.key.extend(w.set.iter().map(|&j| (j, dirs[j])));
-        for (b, &col) in w.set.iter().enumerate() {
-            let hcol = self.ops.hilbert_col(col);
-            let dcol = self.ops.abs_derivative_col(col);
-            for (a, &(row, s)) in w.key.iter().enumerate() {
-                w.lu[b * k + a] = -dcol[row] - f * s.sign() * hcol[row];
-            }
-        }
-        let m = MatMut::from_column_major_slice_mut(&mut w.lu[..k * k], k, k);
-        lu_in_place(
-            m,
-            &mut w.perm[..k],
-            &mut w.perm_inv[..k],
-            Par::Seq,
-            MemStack::new(&mut w.stack),
-            Default::default(),
-        );
     }
 
     fn separation(&self, load: LoadPoint, node: usize, pressure: f64) -> ContactError {

@@ -1,22 +1,178 @@
-//! The terminal explorer.
+//! The terminal explorer: live stepping of the contact.
+//!
+//! [`app`] is the state machine (no I/O), [`keys`] the one key table,
+//! [`event`] the loop's inputs, [`terminal`] setup and restore, and [`ui`]
+//! the panels. The loop here steps within a per-frame budget and draws.
+
+pub mod app;
+pub mod event;
+pub mod keys;
+pub mod terminal;
+pub mod ui;
+
+use std::io;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
 
 use crate::case::{Case, CaseParams};
+use app::{App, Config};
+use event::Event;
 
-/// The case the explorer opens on.
+/// Time between frames while stepping (60 fps).
+pub const FRAME: Duration = Duration::from_millis(16);
+/// Stepping allowed per frame: half a frame, leaving the rest to drawing
+/// and input so a frame never runs long.
+pub const STEP_BUDGET: Duration = Duration::from_millis(8);
+/// Wait between redraws when nothing is stepping.
+const IDLE_WAIT: Duration = Duration::from_millis(250);
+
+/// The case the explorer opens on: the paper's Fig. 3 (in phase) at a
+/// `lambda` in the cyclic-slip range, reached through the transient via
+/// `(7pi/4, -7pi/4)`, which leaves the stick diamond so locked-in slip
+/// shows from the start.
 pub fn default_params() -> CaseParams {
     CaseParams {
-        load_factor: 5.5,
+        load_factor: 6.0,
+        initial: "7,-7".into(),
         ..CaseParams::default()
     }
 }
 
-/// Errors of the terminal explorer.
+/// Errors of the terminal explorer. A terminal that is too small is not
+/// one: the screen says so and waits for a resize.
 #[derive(Debug, thiserror::Error)]
 pub enum TuiError {
-    #[error("the terminal explorer is being built")]
-    Unavailable,
+    #[error("the explorer needs a terminal: stdin and stdout must both be a TTY (use `shakedown run` for plain output)")]
+    NotATerminal,
+    #[error("terminal: {0}")]
+    Io(#[from] io::Error),
 }
 
-pub fn run(_case: Case) -> Result<(), TuiError> {
-    Err(TuiError::Unavailable)
+/// Frame timings, written to the file named by `SHAKEDOWN_FRAME_STATS` on
+/// exit: the only way to see them without disturbing the screen.
+#[derive(Debug, Default)]
+struct FrameStats {
+    frames: u64,
+    busy_frames: u64,
+    total: Duration,
+    busy_total: Duration,
+    max: Duration,
+    max_step: Duration,
+    max_draw: Duration,
+    over_50ms: u64,
+    /// The slowest frames: (frame, step, draw, increments stepped).
+    slowest: Vec<(u64, Duration, Duration, usize)>,
+}
+
+impl FrameStats {
+    fn record(&mut self, step: Duration, draw: Duration, stepped: usize, busy: bool) {
+        let took = step + draw;
+        self.frames += 1;
+        self.total += took;
+        if busy {
+            self.busy_frames += 1;
+            self.busy_total += took;
+        }
+        self.max = self.max.max(took);
+        self.max_step = self.max_step.max(step);
+        self.max_draw = self.max_draw.max(draw);
+        if took > Duration::from_millis(50) {
+            self.over_50ms += 1;
+        }
+        self.slowest.push((self.frames, step, draw, stepped));
+        self.slowest.sort_by_key(|s| std::cmp::Reverse(s.1 + s.2));
+        self.slowest.truncate(5);
+    }
+
+    fn write(&self, path: &std::ffi::OsStr, increments: usize) {
+        let mean = |t: Duration, n: u64| t.as_secs_f64() * 1e3 / n.max(1) as f64;
+        let text = format!(
+            "frames {}\nstepping frames {}\nmean frame ms {:.3}\nmean stepping frame ms {:.3}\nmax frame ms {:.3}\nmax step ms {:.3}\nmax draw ms {:.3}\nframes over 50 ms {}\nincrements {}\n",
+            self.frames,
+            self.busy_frames,
+            mean(self.total, self.frames),
+            mean(self.busy_total, self.busy_frames),
+            self.max.as_secs_f64() * 1e3,
+            self.max_step.as_secs_f64() * 1e3,
+            self.max_draw.as_secs_f64() * 1e3,
+            self.over_50ms,
+            increments
+        );
+        let mut text = text;
+        for (frame, step, draw, stepped) in &self.slowest {
+            text.push_str(&format!(
+                "slow frame {frame}: step {:.3} ms ({stepped} increments), draw {:.3} ms\n",
+                step.as_secs_f64() * 1e3,
+                draw.as_secs_f64() * 1e3
+            ));
+        }
+        let _ = std::fs::write(path, text);
+    }
+}
+
+/// Run the explorer on `case` until the user quits.
+pub fn run(case: Case) -> Result<(), TuiError> {
+    terminal::check_tty()?;
+    let interrupted = terminal::interrupt_flag();
+    let mut app = App::new(case, Config::from_env());
+    let mut term = terminal::setup()?;
+    let result = event_loop(&mut term, &mut app, &interrupted);
+    terminal::restore();
+    result
+}
+
+fn event_loop(
+    term: &mut terminal::Term,
+    app: &mut App,
+    interrupted: &std::sync::atomic::AtomicBool,
+) -> Result<(), TuiError> {
+    let mut stats = FrameStats::default();
+    let mut last_tick: Option<Instant> = None;
+    loop {
+        let start = Instant::now();
+        let busy = app.is_busy();
+        let before = app.stepper().increments();
+        // Keys redraw at once, but stepping keeps to the frame rate, so
+        // holding a key down does not speed the run up.
+        if last_tick.is_none_or(|t| start.duration_since(t) >= FRAME) {
+            app.tick(STEP_BUDGET);
+            last_tick = Some(start);
+        }
+        let stepped = app.stepper().increments().saturating_sub(before);
+        let drawing = Instant::now();
+        term.draw(|frame| ui::draw(frame, app))?;
+        stats.record(drawing - start, drawing.elapsed(), stepped, busy);
+
+        // Wait out the rest of the frame, acting on every key that comes
+        // in; a key redraws at once rather than at the next tick.
+        let wait = if app.is_busy() { FRAME } else { IDLE_WAIT };
+        let deadline = start + wait;
+        loop {
+            if interrupted.load(Ordering::SeqCst) {
+                app.request_quit();
+            }
+            if app.should_quit() {
+                if let Some(path) = std::env::var_os("SHAKEDOWN_FRAME_STATS") {
+                    stats.write(&path, app.stepper().increments());
+                }
+                return Ok(());
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            match event::next(left)? {
+                Event::Key(key) => {
+                    app.handle_key(key);
+                    break;
+                }
+                Event::Resize(..) => {
+                    term.autoresize()?;
+                    break;
+                }
+                Event::Tick => {
+                    if Instant::now() >= deadline {
+                        break;
+                    }
+                }
+            }
+        }
+    }
 }

@@ -1,0 +1,264 @@
+//! Layout and drawing. Each panel is one file; this one decides where the
+//! panels go for the terminal's size and holds what they share.
+
+mod dissipation;
+mod help;
+mod load_plane;
+mod slip;
+mod slip_map;
+mod status;
+mod tractions;
+
+use ratatui::layout::{Alignment, Constraint, Layout, Rect};
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, BorderType, Paragraph, Wrap};
+use ratatui::Frame;
+
+use super::app::App;
+
+/// The smallest terminal the layout is made for.
+pub const MIN_WIDTH: u16 = 80;
+pub const MIN_HEIGHT: u16 = 24;
+
+/// Draw the whole screen.
+pub fn draw(frame: &mut Frame, app: &App) {
+    let area = frame.area();
+    let theme = Theme::new(app.config().color);
+    if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
+        too_small(frame, area, &theme);
+        return;
+    }
+    let areas = Areas::new(area);
+    load_plane::render(frame, areas.load_plane, app, &theme);
+    slip_map::render(frame, areas.slip_map, app, &theme);
+    tractions::render(frame, areas.tractions, app, &theme);
+    slip::render(frame, areas.slip, app, &theme);
+    dissipation::render(frame, areas.dissipation, app, &theme);
+    status::render(frame, areas.status, app, &theme);
+    if app.help_visible() {
+        help::render(frame, area, &theme);
+    }
+}
+
+/// Where each panel goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Areas {
+    pub load_plane: Rect,
+    pub slip_map: Rect,
+    pub tractions: Rect,
+    pub slip: Rect,
+    pub dissipation: Rect,
+    pub status: Rect,
+}
+
+impl Areas {
+    /// The slip map and the load plane share the top, the three profiles
+    /// the bottom. The load plane is kept about as wide as it is tall on
+    /// screen (a cell is about twice as tall as wide) so the diamond looks
+    /// like one; the slip map takes the rest, because its width is time.
+    pub fn new(area: Rect) -> Self {
+        let status_height = 3;
+        let [body, status] =
+            Layout::vertical([Constraint::Fill(1), Constraint::Length(status_height)]).areas(area);
+        let top_height = (body.height * 4).div_ceil(7).max(11);
+        let [top, bottom] =
+            Layout::vertical([Constraint::Length(top_height), Constraint::Fill(1)]).areas(body);
+        let plane_width = (top.height * 5 / 2).clamp(24, top.width * 2 / 5);
+        let [load_plane, slip_map] =
+            Layout::horizontal([Constraint::Length(plane_width), Constraint::Fill(1)]).areas(top);
+        let [tractions, slip, dissipation] = Layout::horizontal([
+            Constraint::Fill(7),
+            Constraint::Fill(7),
+            Constraint::Fill(6),
+        ])
+        .areas(bottom);
+        Self {
+            load_plane,
+            slip_map,
+            tractions,
+            slip,
+            dissipation,
+            status,
+        }
+    }
+}
+
+fn too_small(frame: &mut Frame, area: Rect, theme: &Theme) {
+    let text = vec![
+        Line::from(Span::styled(
+            format!("terminal too small (need {MIN_WIDTH}x{MIN_HEIGHT})"),
+            theme.alert(),
+        )),
+        Line::from(format!("this one is {}x{}", area.width, area.height)),
+        Line::from("enlarge it, or press q to quit"),
+    ];
+    let top = area.height.saturating_sub(text.len() as u16) / 2;
+    let rect = Rect::new(
+        area.x,
+        area.y + top,
+        area.width,
+        area.height.saturating_sub(top),
+    );
+    frame.render_widget(
+        Paragraph::new(text)
+            .alignment(Alignment::Center)
+            .wrap(Wrap { trim: true }),
+        rect,
+    );
+}
+
+/// Colours with a monochrome fallback: without colour every distinction
+/// the panels make is also carried by a glyph or a text label.
+#[derive(Debug, Clone, Copy)]
+pub struct Theme {
+    color: bool,
+}
+
+impl Theme {
+    pub fn new(color: bool) -> Self {
+        Self { color }
+    }
+
+    /// `c`, or the terminal's default when colour is off.
+    pub fn color(&self, c: Color) -> Color {
+        if self.color {
+            c
+        } else {
+            Color::Reset
+        }
+    }
+
+    pub fn fg(&self, c: Color) -> Style {
+        if self.color {
+            Style::default().fg(c)
+        } else {
+            Style::default()
+        }
+    }
+
+    pub fn forward(&self) -> Style {
+        self.fg(Color::LightRed)
+    }
+    pub fn backward(&self) -> Style {
+        self.fg(Color::LightBlue)
+    }
+    pub fn stick(&self) -> Style {
+        self.fg(Color::DarkGray)
+    }
+    /// Nodes that just stuck: the locked-in history. Reversed video so it
+    /// stands out in monochrome too.
+    pub fn newly_stuck(&self) -> Style {
+        self.fg(Color::LightMagenta)
+            .add_modifier(Modifier::BOLD | Modifier::REVERSED)
+    }
+    /// Older advancing-stick marks in the slip map.
+    pub fn stuck_mark(&self) -> Style {
+        self.fg(Color::Magenta)
+    }
+    pub fn title(&self) -> Style {
+        Style::default().add_modifier(Modifier::BOLD)
+    }
+    pub fn dim(&self) -> Style {
+        self.fg(Color::DarkGray)
+    }
+    pub fn label(&self) -> Style {
+        self.fg(Color::Gray)
+    }
+    pub fn value(&self) -> Style {
+        self.fg(Color::White).add_modifier(Modifier::BOLD)
+    }
+    pub fn alert(&self) -> Style {
+        self.fg(Color::Yellow).add_modifier(Modifier::BOLD)
+    }
+    pub fn error(&self) -> Style {
+        self.fg(Color::LightRed).add_modifier(Modifier::BOLD)
+    }
+
+    /// A bordered panel with its title.
+    pub fn panel<'a>(&self, title: impl Into<Line<'a>>) -> Block<'a> {
+        Block::bordered()
+            .border_type(BorderType::Rounded)
+            .border_style(self.dim())
+            .title(title.into().style(self.title()))
+    }
+}
+
+/// A round number at or above `v` (1, 2 or 5 times a power of ten), so
+/// axes do not jitter with every increment.
+pub fn nice_ceiling(v: f64) -> f64 {
+    if !(v.is_finite() && v > 0.0) {
+        return 1.0;
+    }
+    let power = 10f64.powf(v.log10().floor());
+    let m = v / power;
+    let step = if m <= 1.0 + 1e-12 {
+        1.0
+    } else if m <= 2.0 {
+        2.0
+    } else if m <= 5.0 {
+        5.0
+    } else {
+        10.0
+    };
+    step * power
+}
+
+/// An axis tick label: short fixed notation for moderate values,
+/// scientific otherwise.
+pub fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (0.01..1000.0).contains(&a) {
+        let s = format!("{v:.3}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        s.to_string()
+    } else {
+        format!("{v:.0e}")
+    }
+}
+
+/// Labels of the `theta` axis from `-pi` to `pi`.
+pub fn theta_labels<'a>() -> Vec<Line<'a>> {
+    vec![Line::from("-π"), Line::from("0"), Line::from("π")]
+}
+
+/// Node indices in order of increasing angle in `[-pi, pi)`.
+pub fn theta_order(n: usize) -> impl Iterator<Item = usize> {
+    (n / 2..n).chain(0..n / 2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nice_numbers() {
+        assert_eq!(nice_ceiling(0.13), 0.2);
+        assert_eq!(nice_ceiling(1.0), 1.0);
+        assert_eq!(nice_ceiling(3.0e-3), 5.0e-3);
+        assert_eq!(nice_ceiling(0.0), 1.0);
+        assert_eq!(tick(0.2), "0.2");
+        assert_eq!(tick(-0.05), "-0.05");
+        assert_eq!(tick(0.002), "2e-3");
+    }
+
+    #[test]
+    fn layout_fits_every_size() {
+        for (w, h) in [
+            (80, 24),
+            (100, 30),
+            (160, 48),
+            (200, 60),
+            (80, 60),
+            (300, 24),
+        ] {
+            let a = Areas::new(Rect::new(0, 0, w, h));
+            for r in [a.load_plane, a.slip_map, a.tractions, a.slip, a.dissipation] {
+                assert!(r.width >= 20 && r.height >= 8, "{w}x{h}: {r:?}");
+            }
+            assert_eq!(a.status.height, 3);
+        }
+    }
+}
