@@ -323,15 +323,14 @@ fn preset_values_out_of_range_name_the_file() {
 }
 
 // ---------------------------------------------------------------------
-// The terminal explorer: built in another branch. Here stdin is
-// /dev/null and stdout a pipe, so neither is a terminal.
+// The terminal explorer. Here stdin is /dev/null and stdout a pipe, so
+// neither is a terminal.
 // ---------------------------------------------------------------------
 
 #[test]
-#[ignore = "needs the TUI (merged later)"]
 fn tui_without_a_terminal() {
-    rejected(&["tui"], &["terminal"]);
-    rejected(&[], &["terminal"]);
+    rejected(&["tui"], &["terminal", "stdin", "stdout"]);
+    rejected(&[], &["terminal", "stdin", "stdout"]);
     // Bad flags are still reported first, as bad flags.
     rejected(&["tui", "--nodes", "7"], &["--nodes 7", "16 to 4096"]);
 }
