@@ -8,6 +8,7 @@
 //! [`sweep`] (batch runs), [`limit`] (`lambda_2` by linear programming),
 //! [`preset`] (the paper's cases as TOML) and [`figure`] (their plots).
 
+pub mod batch;
 pub mod case;
 pub mod contact;
 pub mod figure;

@@ -8,17 +8,22 @@
 //! `phi`, so it is computed once per phase (one linear programme each).
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::batch::{run_ordered, Abort, Interrupt, Progress};
 use crate::contact::Contact;
 use crate::limit::{shakedown_limit, LimitError, DEFAULT_SAMPLES};
 use crate::params::{Cycle, Discretisation, LoadPoint, Material, ParamError};
 use crate::path::Initial;
 use crate::steady::SteadyState;
-use crate::stepper::{operators, StepError, StepOptions, Stepper, Summary};
+use crate::stepper::{operators, Status, StepError, StepOptions, Stepper, Summary};
+
+/// The contact at the cycle centre `A` after one initial path, or the
+/// summary of a transient that already ended (gross slip, separation).
+pub type Prepared = Result<Result<Contact, Summary>, StepError>;
 
 /// What a sweep runs: the product `load_factors x phases x initials`.
 #[derive(Debug, Clone)]
@@ -110,17 +115,8 @@ impl Row {
     }
 }
 
-/// Where the runs of one initial path start.
-enum Start {
-    /// The transient's end state at `A` (or how the transient ended),
-    /// shared by every `lambda` and `phi`.
-    Shared(Box<Result<Result<Contact, Summary>, StepError>>),
-    /// The optimal slip, which depends on `phi`: looked up per phase.
-    PerPhase,
-}
-
-/// The optimal slip placed at `A`, per phase (keyed by the phase's bits).
-type OptimalStarts = Vec<(u64, Result<Contact, LimitError>)>;
+/// The optimal slip placed at `A` for one phase.
+type OptimalStart = Result<Contact, LimitError>;
 
 impl SweepSpec {
     /// Every run, in output order: `lambda` outermost, then `phi`, then the
@@ -155,58 +151,42 @@ impl SweepSpec {
 
     /// The contact at `A` for each initial path (in parallel), or the
     /// summary of a transient that already ended in gross slip or separation.
-    fn prepare(&self) -> Vec<Start> {
+    /// The `optimal` path has no phase-free start; it gets an error here.
+    pub fn prepare(&self) -> Vec<Prepared> {
         let ops = operators(&self.disc);
         self.initials
             .par_iter()
-            .map(|initial| match initial {
-                Initial::Optimal => Start::PerPhase,
-                _ => Start::Shared(Box::new(Stepper::prepare_at_center(
-                    Arc::clone(&ops),
-                    self.material,
-                    self.disc,
-                    initial,
-                    self.center,
-                    self.options,
-                ))),
-            })
+            .map(|initial| self.prepare_one(&ops, initial))
             .collect()
     }
 
-    /// The optimal slip at `A` for every phase that `jobs` run it at: one
-    /// linear programme per phase, in parallel.
-    fn optimal_starts(&self, jobs: &[Job]) -> OptimalStarts {
-        let mut phases: Vec<f64> = jobs
-            .iter()
-            .filter(|j| matches!(self.initials[j.initial], Initial::Optimal))
-            .map(|j| j.phase)
-            .collect();
-        phases.sort_by(f64::total_cmp);
-        phases.dedup_by(|a, b| a.to_bits() == b.to_bits());
-        if phases.is_empty() {
-            return Vec::new();
-        }
-        let ops = operators(&self.disc);
-        phases
-            .par_iter()
-            .map(|&phase| {
-                let start = shakedown_limit(
-                    &self.material,
-                    self.center,
-                    self.slope,
-                    phase,
-                    &self.disc,
-                    DEFAULT_SAMPLES,
-                )
-                .map(|limit| {
-                    let mut c = Contact::new(self.material, Arc::clone(&ops));
-                    c.set_slip(&limit.slip);
-                    c.set_load_elastic(self.center);
-                    c
-                });
-                (phase.to_bits(), start)
-            })
-            .collect()
+    fn prepare_one(&self, ops: &Arc<crate::contact::Operators>, initial: &Initial) -> Prepared {
+        Stepper::prepare_at_center(
+            Arc::clone(ops),
+            self.material,
+            self.disc,
+            initial,
+            self.center,
+            self.options,
+        )
+    }
+
+    /// The optimal slip at `A` for `phase`: one linear programme.
+    fn optimal_one(&self, ops: &Arc<crate::contact::Operators>, phase: f64) -> OptimalStart {
+        shakedown_limit(
+            &self.material,
+            self.center,
+            self.slope,
+            phase,
+            &self.disc,
+            DEFAULT_SAMPLES,
+        )
+        .map(|limit| {
+            let mut c = Contact::new(self.material, Arc::clone(ops));
+            c.set_slip(&limit.slip);
+            c.set_load_elastic(self.center);
+            c
+        })
     }
 
     /// Run `jobs` (a subset of [`SweepSpec::jobs`]) in parallel. `done` is
@@ -214,15 +194,14 @@ impl SweepSpec {
     /// runs not yet started are skipped: the result then holds only the runs
     /// that finished, still in job order.
     pub fn run(&self, jobs: &[Job], done: &(dyn Fn(&Row) + Sync), cancel: &AtomicBool) -> Vec<Row> {
-        let prepared = self.prepare();
-        let optimal = self.optimal_starts(jobs);
+        let starts = Starts::new(self, jobs);
         let mut rows: Vec<Row> = jobs
             .par_iter()
             .filter_map(|job| {
                 if cancel.load(Ordering::Relaxed) {
                     return None;
                 }
-                let row = self.run_job(job, &prepared[job.initial], &optimal);
+                let row = self.run_job(job, &starts, &|| false)?;
                 done(&row);
                 Some(row)
             })
@@ -231,21 +210,109 @@ impl SweepSpec {
         rows
     }
 
-    fn run_job(&self, job: &Job, start: &Start, optimal: &OptimalStarts) -> Row {
-        let initial = self.initials[job.initial].name();
-        let contact = match start {
-            Start::Shared(shared) => match shared.as_ref() {
-                Err(e) => Err(RunError::Step(e.clone())),
-                Ok(Err(summary)) => Ok(Err(summary.clone())),
-                Ok(Ok(contact)) => Ok(Ok(contact)),
+    /// Run `jobs` and hand each row to `deliver` in job order, as soon as
+    /// it and all the rows before it are done (see
+    /// [`crate::batch::run_ordered`]). So an output written row by row is
+    /// always the start of the complete output. `interrupt` stops the
+    /// sweep: draining finishes the runs in progress, aborting drops them
+    /// at their next increment. Only the transients (and optimal slips) the
+    /// jobs need are computed, each once.
+    pub fn run_ordered<E>(
+        &self,
+        jobs: &[Job],
+        interrupt: &Interrupt,
+        mut deliver: impl FnMut(Row) -> Result<(), E>,
+    ) -> Result<Progress, E> {
+        let starts = Starts::new(self, jobs);
+        run_ordered(
+            jobs,
+            interrupt,
+            |job, abort: Abort<'_>| {
+                if abort.requested() {
+                    return None;
+                }
+                self.run_job(job, &starts, &|| abort.requested())
             },
-            Start::PerPhase => {
-                let found = optimal
+            |_, row| deliver(row),
+        )
+    }
+
+    /// One run; `None` when `stop` asked it to give up.
+    fn run_job(&self, job: &Job, starts: &Starts, stop: &dyn Fn() -> bool) -> Option<Row> {
+        let initial = self.initials[job.initial].name();
+        let outcome = match starts.get(self, job) {
+            Err(e) => Err(e),
+            Ok(Err(summary)) => Ok(summary.clone()),
+            Ok(Ok(contact)) => {
+                let cycle = Cycle::new(self.center, job.load_factor, self.slope, job.phase)
+                    .expect("validated before the sweep");
+                let mut s = Stepper::from_center(contact.clone(), cycle, self.disc, self.options);
+                // As `run_to_steady`, with a look at `stop` between increments.
+                let mut failure = None;
+                while matches!(s.status(), Status::Running) {
+                    if stop() {
+                        return None;
+                    }
+                    if let Err(e) = s.step() {
+                        failure = Some(e);
+                        break;
+                    }
+                }
+                match failure {
+                    Some(e) => Err(RunError::Step(e)),
+                    None => Ok(s.summary().cloned().expect("not running")),
+                }
+            }
+        };
+        Some(Row {
+            job: *job,
+            initial,
+            outcome,
+        })
+    }
+}
+
+/// Where runs start, computed on first use by whichever run needs it: the
+/// contact at `A` per initial path (shared by every `lambda` and `phi`), and
+/// for the `optimal` path the optimal slip per phase.
+struct Starts {
+    ops: OnceLock<Arc<crate::contact::Operators>>,
+    shared: Vec<OnceLock<Prepared>>,
+    /// One cell per distinct phase (by its bits) among the optimal jobs.
+    optimal: Vec<(u64, OnceLock<OptimalStart>)>,
+}
+
+impl Starts {
+    fn new(spec: &SweepSpec, jobs: &[Job]) -> Self {
+        let mut phases: Vec<u64> = jobs
+            .iter()
+            .filter(|j| matches!(spec.initials[j.initial], Initial::Optimal))
+            .map(|j| j.phase.to_bits())
+            .collect();
+        phases.sort_unstable();
+        phases.dedup();
+        Self {
+            ops: OnceLock::new(),
+            shared: spec.initials.iter().map(|_| OnceLock::new()).collect(),
+            optimal: phases.into_iter().map(|p| (p, OnceLock::new())).collect(),
+        }
+    }
+
+    fn get<'a>(
+        &'a self,
+        spec: &SweepSpec,
+        job: &Job,
+    ) -> Result<Result<&'a Contact, &'a Summary>, RunError> {
+        let ops = self.ops.get_or_init(|| operators(&spec.disc));
+        match &spec.initials[job.initial] {
+            Initial::Optimal => {
+                let cell = &self
+                    .optimal
                     .iter()
                     .find(|(bits, _)| *bits == job.phase.to_bits())
-                    .map(|(_, c)| c)
-                    .expect("optimal_starts covers every phase of the jobs");
-                match found {
+                    .expect("Starts::new saw every optimal job's phase")
+                    .1;
+                match cell.get_or_init(|| spec.optimal_one(ops, job.phase)) {
                     Ok(contact) => Ok(Ok(contact)),
                     Err(e) => Err(RunError::Optimal {
                         phase: job.phase,
@@ -253,20 +320,13 @@ impl SweepSpec {
                     }),
                 }
             }
-        };
-        let outcome = contact.and_then(|c| match c {
-            Err(summary) => Ok(summary),
-            Ok(contact) => {
-                let cycle = Cycle::new(self.center, job.load_factor, self.slope, job.phase)
-                    .expect("validated before the sweep");
-                let mut s = Stepper::from_center(contact.clone(), cycle, self.disc, self.options);
-                s.run_to_steady().map_err(RunError::from)
+            initial => {
+                match self.shared[job.initial].get_or_init(|| spec.prepare_one(ops, initial)) {
+                    Err(e) => Err(RunError::Step(e.clone())),
+                    Ok(Err(summary)) => Ok(Err(summary)),
+                    Ok(Ok(contact)) => Ok(Ok(contact)),
+                }
             }
-        });
-        Row {
-            job: *job,
-            initial,
-            outcome,
         }
     }
 }

@@ -41,7 +41,7 @@ fn classify(e: LimitError) -> anyhow::Error {
 
 pub fn limit(args: LimitArgs) -> Result<ExitCode> {
     let base = args.case.base(CaseParams::default())?;
-    let mut params = args.case.apply(base, true)?;
+    let mut params = args.case.apply(base)?;
     // lambda and the initial path play no part in the limit.
     params.initial = "OA".into();
     let case = Case::from_params(&params).map_err(|e| anyhow!(InputError(e.to_string())))?;

@@ -1,18 +1,20 @@
 //! Command-line interface. Each subcommand lives in its own file; this one
 //! holds the flags every case shares and the error-to-exit-code mapping.
 
+pub mod batch;
 mod figure;
 mod limit;
+mod merge;
 mod presets;
 mod run;
 mod sweep;
 
 use std::process::ExitCode;
 
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, Result};
 use clap::{Args, Parser, Subcommand};
-use shakedown::case::{Case, CaseParams};
-use shakedown::params::Plane;
+use shakedown::case::{Case, CaseError, CaseParams};
+use shakedown::params::{ParamError, Plane};
 use shakedown::parse::{parse_angle, parse_number, parse_point};
 use shakedown::preset::Preset;
 
@@ -35,6 +37,9 @@ enum Command {
     Run(run::RunArgs),
     /// Run a grid of lambda x phi x initial paths and write CSV.
     Sweep(sweep::SweepArgs),
+    /// Join the outputs of `sweep --shard K/N` into one CSV, in the order an
+    /// unsharded sweep with the same flags writes.
+    Merge(merge::MergeArgs),
     /// Open the terminal explorer (the default).
     Tui(TuiArgs),
     /// List the built-in presets (the paper's figures).
@@ -65,13 +70,13 @@ pub struct ModelArgs {
     #[arg(long, value_name = "strain|stress")]
     pub plane: Option<String>,
     /// Nodes round the interface (even, 16..4096).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub nodes: Option<String>,
     /// Increments per cycle.
-    #[arg(long, value_name = "STEPS")]
+    #[arg(long, value_name = "STEPS", allow_hyphen_values = true)]
     pub steps: Option<String>,
     /// Cycle cap before a run is reported not-converged.
-    #[arg(long, value_name = "CYCLES")]
+    #[arg(long, value_name = "CYCLES", allow_hyphen_values = true)]
     pub max_cycles: Option<String>,
 }
 
@@ -100,44 +105,103 @@ pub fn load_preset(flag: &str, name: &str) -> Result<Preset> {
     shakedown::preset::load(name).map_err(|e| anyhow!(InputError(format!("{flag} {name}: {e}"))))
 }
 
-fn flag<T>(
+/// What each flag accepts, as error messages say it. A test keeps these
+/// equal to the library's checks.
+pub fn accepted(flag: &str) -> Option<&'static str> {
+    Some(match flag {
+        "lambda" => "0 <= lambda <= 1000",
+        "phi" => "|phi| <= 1000 rad",
+        "psi" => "|psi| <= 1e6",
+        "center" => "x0,y0 with |x0|, |y0| <= 1000 (pi allowed: pi,0.75pi)",
+        "friction" => "0 < f <= 10",
+        "nu" => "0 <= nu < 0.5",
+        "plane" => "strain or stress",
+        "nodes" => "an even number from 16 to 4096",
+        "steps" => "16 to 100000 increments per cycle",
+        "max-cycles" => "1 to 100000",
+        _ => return None,
+    })
+}
+
+/// The one-line error of a bad `--{flag} {value}`: the flag, the value, why,
+/// and what the flag accepts.
+pub fn bad_flag(flag: &str, value: &str, why: impl std::fmt::Display) -> anyhow::Error {
+    let why = why.to_string();
+    let message = match accepted(flag) {
+        Some(range) if !why.contains("expected") => {
+            format!("--{flag} {value}: {why}: expected {range}")
+        }
+        _ => format!("--{flag} {value}: {why}"),
+    };
+    anyhow!(InputError(message))
+}
+
+/// The flag a validation error is about.
+pub fn flag_of(e: &CaseError) -> Option<&'static str> {
+    match e {
+        CaseError::Param(p) => {
+            let (ParamError::NotFinite { name, .. }
+            | ParamError::OutOfRange { name, .. }
+            | ParamError::BadCount { name, .. }) = p;
+            Some(match *name {
+                "x0" | "y0" | "center" => "center",
+                "lambda" => "lambda",
+                "phi" => "phi",
+                "psi" => "psi",
+                "friction" => "friction",
+                "nu" => "nu",
+                "nodes" => "nodes",
+                "steps" => "steps",
+                _ => return None,
+            })
+        }
+        CaseError::Path(_) | CaseError::Optimal(_) => Some("initial"),
+        CaseError::MaxCycles(_) => Some("max-cycles"),
+    }
+}
+
+/// A validation error as bad input, naming the flag when `given` knows the
+/// flag's value on the command line.
+pub fn case_error(e: CaseError, given: impl Fn(&str) -> Option<String>) -> anyhow::Error {
+    match flag_of(&e).and_then(|f| given(f).map(|v| (f, v))) {
+        Some((flag, value)) => bad_flag(flag, &value, e),
+        None => anyhow!(InputError(e.to_string())),
+    }
+}
+
+fn flag<T, E: std::fmt::Display>(
     name: &str,
     value: &Option<String>,
-    parse: impl Fn(&str) -> Result<T>,
+    parse: impl Fn(&str) -> std::result::Result<T, E>,
 ) -> Result<Option<T>> {
     value
         .as_deref()
-        .map(|v| parse(v).with_context(|| format!("--{name} {v}")))
+        .map(|v| parse(v).map_err(|e| bad_flag(name, v, e)))
         .transpose()
 }
 
-fn count(text: &str) -> Result<usize> {
+fn count(text: &str) -> std::result::Result<usize, String> {
     text.trim()
         .parse::<usize>()
-        .map_err(|_| anyhow!("'{text}' is not a whole number"))
+        .map_err(|_| format!("'{text}' is not a whole number"))
 }
 
 impl ModelArgs {
     /// Apply the flags that were given on top of `p`.
     pub fn apply(&self, mut p: CaseParams) -> Result<CaseParams> {
-        let num = |t: &str| parse_number(t).map_err(anyhow::Error::from);
-        if let Some(v) = flag("psi", &self.psi, num)? {
+        if let Some(v) = flag("psi", &self.psi, parse_number)? {
             p.slope = v;
         }
-        if let Some(v) = flag("center", &self.center, |t| {
-            parse_point(t).map_err(Into::into)
-        })? {
+        if let Some(v) = flag("center", &self.center, parse_point)? {
             p.center = v;
         }
-        if let Some(v) = flag("friction", &self.friction, num)? {
+        if let Some(v) = flag("friction", &self.friction, parse_number)? {
             p.friction = v;
         }
-        if let Some(v) = flag("nu", &self.nu, num)? {
+        if let Some(v) = flag("nu", &self.nu, parse_number)? {
             p.poisson = v;
         }
-        if let Some(v) = flag("plane", &self.plane, |t| {
-            t.parse::<Plane>().map_err(|e| anyhow!(e))
-        })? {
+        if let Some(v) = flag("plane", &self.plane, |t| t.parse::<Plane>())? {
             p.plane = v;
         }
         if let Some(v) = flag("nodes", &self.nodes, count)? {
@@ -150,6 +214,23 @@ impl ModelArgs {
             p.max_cycles = v;
         }
         Ok(p)
+    }
+}
+
+impl ModelArgs {
+    /// The value given for `--{flag}`, if any.
+    pub fn given(&self, flag: &str) -> Option<String> {
+        match flag {
+            "psi" => self.psi.clone(),
+            "center" => self.center.clone(),
+            "friction" => self.friction.clone(),
+            "nu" => self.nu.clone(),
+            "plane" => self.plane.clone(),
+            "nodes" => self.nodes.clone(),
+            "steps" => self.steps.clone(),
+            "max-cycles" => self.max_cycles.clone(),
+            _ => None,
+        }
     }
 }
 
@@ -168,16 +249,13 @@ impl CaseArgs {
     }
 
     /// Apply the flags that were given on top of `base`.
-    pub fn apply(&self, p: CaseParams, with_lambda_phi: bool) -> Result<CaseParams> {
+    pub fn apply(&self, p: CaseParams) -> Result<CaseParams> {
         let mut p = self.model.apply(p)?;
-        let num = |t: &str| parse_number(t).map_err(anyhow::Error::from);
-        if with_lambda_phi {
-            if let Some(v) = flag("lambda", &self.lambda, num)? {
-                p.load_factor = v;
-            }
-            if let Some(v) = flag("phi", &self.phi, |t| parse_angle(t).map_err(Into::into))? {
-                p.phase = v;
-            }
+        if let Some(v) = flag("lambda", &self.lambda, parse_number)? {
+            p.load_factor = v;
+        }
+        if let Some(v) = flag("phi", &self.phi, parse_angle)? {
+            p.phase = v;
         }
         if let Some(v) = &self.initial {
             p.initial = v.clone();
@@ -187,9 +265,19 @@ impl CaseArgs {
 
     /// The validated case.
     pub fn case(&self, base: CaseParams) -> Result<(CaseParams, Case)> {
-        let params = self.apply(base, true)?;
-        let case = Case::from_params(&params).map_err(|e| anyhow!(InputError(e.to_string())))?;
+        let params = self.apply(base)?;
+        let case = Case::from_params(&params).map_err(|e| case_error(e, |f| self.given(f)))?;
         Ok((params, case))
+    }
+
+    /// The value given for `--{flag}`, if any.
+    pub fn given(&self, flag: &str) -> Option<String> {
+        match flag {
+            "lambda" => self.lambda.clone(),
+            "phi" => self.phi.clone(),
+            "initial" => self.initial.clone(),
+            f => self.model.given(f),
+        }
     }
 }
 
@@ -210,9 +298,19 @@ pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
-            let code = if e.use_stderr() { 2 } else { 0 };
-            let _ = e.print();
-            return ExitCode::from(code);
+            use clap::error::ErrorKind;
+            let help = matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            );
+            if help || !e.use_stderr() {
+                let _ = e.print();
+                return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+            }
+            eprintln!("error: {}", clap_one_line(&e));
+            return ExitCode::from(2);
         }
     };
     let result = match cli.command {
@@ -221,6 +319,7 @@ pub fn main() -> ExitCode {
         }),
         Some(Command::Run(a)) => run::run(a),
         Some(Command::Sweep(a)) => sweep::sweep(a),
+        Some(Command::Merge(a)) => merge::merge(a),
         Some(Command::Tui(a)) => tui(a),
         Some(Command::Presets) => presets::presets(),
         Some(Command::Figure(a)) => figure::figure(a),
@@ -245,6 +344,20 @@ fn one_line(e: &anyhow::Error) -> String {
         .map(|c| c.to_string())
         .collect::<Vec<_>>()
         .join(": ")
+        .replace('\n', " ")
+}
+
+/// A command-line syntax error from clap on one line: its first line
+/// (without clap's own `error: `), and where to look for help.
+fn clap_one_line(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let first = text
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty())
+        .unwrap_or("invalid command line");
+    let first = first.strip_prefix("error: ").unwrap_or(first);
+    format!("{first} (see shakedown --help)")
 }
 
 fn is_input_error(e: &anyhow::Error) -> bool {
@@ -255,8 +368,7 @@ fn is_input_error(e: &anyhow::Error) -> bool {
             || c.is::<shakedown::params::ParamError>()
             || c.is::<shakedown::path::PathError>()
             || c.is::<shakedown::preset::PresetError>()
-    }) || e.root_cause().to_string().contains("is not a whole number")
-        || e.root_cause().to_string().contains("is not a plane")
+    })
 }
 
 fn tui(args: TuiArgs) -> Result<ExitCode> {
@@ -267,4 +379,72 @@ fn tui(args: TuiArgs) -> Result<ExitCode> {
     shakedown::tui::terminal::check_tty().map_err(|e| anyhow!(InputError(e.to_string())))?;
     shakedown::tui::run(case)?;
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    use super::*;
+
+    #[test]
+    fn command_line_definition_is_consistent() {
+        // Duplicate flags and the like panic here rather than at run time.
+        Cli::command().debug_assert();
+    }
+
+    fn run_case(args: &[&str]) -> Result<(CaseParams, Case)> {
+        let mut argv = vec!["shakedown", "run"];
+        argv.extend_from_slice(args);
+        match Cli::try_parse_from(argv).unwrap().command {
+            Some(Command::Run(a)) => a.case.case(CaseParams::default()),
+            _ => unreachable!(),
+        }
+    }
+
+    /// Every case flag's error names the flag and the value, and the range
+    /// it quotes is the library's own check.
+    #[test]
+    fn accepted_ranges_are_the_library_checks() {
+        let cases = [
+            ("lambda", "-1"),
+            ("phi", "2000"),
+            ("psi", "1e7"),
+            ("center", "2000,0"),
+            ("friction", "0"),
+            ("friction", "11"),
+            ("nu", "0.5"),
+            ("nu", "-0.1"),
+            ("nodes", "7"),
+            ("steps", "3"),
+            ("max-cycles", "0"),
+        ];
+        for (flag, value) in cases {
+            let long = format!("--{flag}");
+            let e = run_case(&[&long, value]).unwrap_err();
+            assert!(is_input_error(&e), "{flag}");
+            let message = one_line(&e);
+            assert!(
+                message.starts_with(&format!("--{flag} {value}: ")),
+                "{message}"
+            );
+            let library = message.split("expected ").nth(1).expect(&message);
+            let ours = accepted(flag).unwrap();
+            assert!(ours.contains(library), "{flag}: '{ours}' vs '{library}'");
+        }
+    }
+
+    #[test]
+    fn unreadable_values_quote_the_range() {
+        for (flag, value) in [("friction", "nan"), ("nodes", "x"), ("phi", "abc")] {
+            let long = format!("--{flag}");
+            let e = run_case(&[&long, value]).unwrap_err();
+            let message = one_line(&e);
+            assert!(is_input_error(&e));
+            assert!(
+                message.contains(accepted(flag).unwrap()),
+                "{flag}: {message}"
+            );
+        }
+    }
 }

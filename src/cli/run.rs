@@ -9,6 +9,7 @@ use shakedown::case::CaseParams;
 use shakedown::steady::Approach;
 use shakedown::stepper::Summary;
 
+use super::batch::print_stdout;
 use super::CaseArgs;
 
 #[derive(Debug, Args)]
@@ -26,14 +27,16 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     let mut stepper = case.stepper();
     let summary = stepper.run_to_steady()?;
     let history: Vec<f64> = stepper.history().iter().map(|r| r.dissipation).collect();
-    if args.json {
-        println!(
-            "{}",
+    let text = if args.json {
+        format!(
+            "{}\n",
             serde_json::to_string(&to_json(&params, &summary, &history))?
-        );
+        )
     } else {
-        print!("{}", readable(&params, &summary, &history));
-    }
+        readable(&params, &summary, &history)
+    };
+    // A closed pipe (`shakedown run | head -1`) is not an error.
+    print_stdout(&text)?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -1,19 +1,41 @@
-//! `shakedown sweep`: a grid of runs written as CSV.
+//! `shakedown sweep`: a grid of runs written as CSV, row by row in job
+//! order, so that an interrupted file can be resumed and shards merged.
 
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 use std::process::ExitCode;
-use std::sync::atomic::AtomicBool;
 
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use shakedown::case::{Case, CaseParams};
+use shakedown::batch::Shard;
+use shakedown::case::{Case, CaseError, CaseParams};
 use shakedown::parse::{parse_angle, parse_number, parse_values};
 use shakedown::path::Initial;
 use shakedown::preset::SweepLists;
-use shakedown::sweep::{SweepSpec, CSV_HEADER};
+use shakedown::sweep::{Job, Row, SweepSpec};
 
-use super::{load_preset, InputError, ModelArgs};
+use super::batch::{ctrl_c, is_broken_pipe, report_interrupt, Output};
+use super::{bad_flag, case_error, load_preset, ModelArgs};
+
+/// The CSV header: `lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle`.
+pub use shakedown::sweep::CSV_HEADER as HEADER;
+
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    pub grid: GridArgs,
+    /// Write the CSV here instead of stdout.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<std::path::PathBuf>,
+    /// Continue an interrupted --out FILE: keep its complete rows, skip
+    /// those runs, append the rest (the result is the uninterrupted file).
+    #[arg(long)]
+    pub resume: bool,
+    /// Run only the K-th of N disjoint slices of the runs (1 <= K <= N):
+    /// runs K, K+N, K+2N, ... Join the slices with `shakedown merge`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+}
 
 /// The swept lists. Unset ones come from the preset, else from the case.
 #[derive(Debug, Clone, Default, Args)]
@@ -29,18 +51,34 @@ pub struct ListArgs {
     pub initials: Option<String>,
 }
 
-#[derive(Debug, Args)]
-pub struct SweepArgs {
+/// The grid of a sweep: what `sweep` runs and what `merge` re-derives.
+#[derive(Debug, Clone, Default, Args)]
+pub struct GridArgs {
     /// Start from a preset: a built-in name (see `shakedown presets`) or a path to a .toml file.
     #[arg(long, value_name = "NAME|FILE")]
     pub preset: Option<String>,
     #[command(flatten)]
     pub lists: ListArgs,
-    /// Write the CSV here instead of stdout.
-    #[arg(long, value_name = "FILE")]
-    pub out: Option<std::path::PathBuf>,
     #[command(flatten)]
     pub model: ModelArgs,
+}
+
+/// The sweep of `grid`: its preset (if any) under the flags given.
+pub fn grid_spec(grid: &GridArgs) -> Result<SweepSpec> {
+    let preset = grid
+        .preset
+        .as_deref()
+        .map(|name| load_preset("--preset", name))
+        .transpose()?;
+    let base = preset
+        .as_ref()
+        .map_or_else(CaseParams::default, |p| p.params.clone());
+    spec(
+        &grid.model,
+        &grid.lists,
+        base,
+        preset.as_ref().map(|p| &p.sweep),
+    )
 }
 
 /// The sweep: the model flags over `base`, with the lists from the flags,
@@ -53,27 +91,32 @@ pub fn spec(
 ) -> Result<SweepSpec> {
     let mut params = model.apply(base)?;
     let lambdas = match (&lists.lambdas, preset) {
-        (Some(t), _) => parse_values(t, parse_number).with_context(|| format!("--lambda {t}"))?,
+        (Some(t), _) => parse_values(t, parse_number).map_err(|e| bad_flag("lambda", t, e))?,
         (None, Some(p)) => p.load_factors.clone(),
         (None, None) => vec![params.load_factor],
     };
     let phis = match (&lists.phis, preset) {
-        (Some(t), _) => parse_values(t, parse_angle).with_context(|| format!("--phi {t}"))?,
+        (Some(t), _) => parse_values(t, parse_angle).map_err(|e| bad_flag("phi", t, e))?,
         (None, Some(p)) => p.phases.clone(),
         (None, None) => vec![params.phase],
     };
     let initials = match (&lists.initials, preset) {
-        (Some(t), _) => Initial::parse_list(t)
-            .map_err(|e| anyhow!(InputError(format!("--initial {t}: {e}"))))?,
+        (Some(t), _) => Initial::parse_list(t).map_err(|e| bad_flag("initial", t, e))?,
         (None, Some(p)) => p.initials.clone(),
         (None, None) => Initial::parse_list(&params.initial)
-            .map_err(|e| anyhow!(InputError(format!("initial path: {e}"))))?,
+            .map_err(|e| bad_flag("initial", &params.initial, e))?,
+    };
+    let given = |flag: &str| match flag {
+        "lambda" => lists.lambdas.clone(),
+        "phi" => lists.phis.clone(),
+        "initial" => lists.initials.clone(),
+        f => model.given(f),
     };
     params.load_factor = lambdas[0];
     params.phase = phis[0];
     // The initial paths are already resolved; validate the rest.
     params.initial = "OA".into();
-    let case = Case::from_params(&params).map_err(|e| anyhow!(InputError(e.to_string())))?;
+    let case = Case::from_params(&params).map_err(|e| case_error(e, given))?;
     let spec = SweepSpec {
         material: case.material,
         disc: case.disc,
@@ -85,7 +128,7 @@ pub fn spec(
         initials,
     };
     spec.validate()
-        .map_err(|e| anyhow!(InputError(e.to_string())))?;
+        .map_err(|e| case_error(CaseError::Param(e), given))?;
     Ok(spec)
 }
 
@@ -104,7 +147,7 @@ pub fn progress(len: usize) -> ProgressBar {
 }
 
 /// Warn about runs that failed, with the distinct reasons.
-pub fn warn_failures(rows: &[shakedown::sweep::Row]) {
+pub fn warn_failures(rows: &[Row]) {
     let failed: Vec<String> = rows
         .iter()
         .filter_map(|r| r.outcome.as_ref().err().map(|e| e.to_string()))
@@ -123,38 +166,145 @@ pub fn warn_failures(rows: &[shakedown::sweep::Row]) {
     );
 }
 
-pub fn sweep(args: SweepArgs) -> Result<ExitCode> {
-    let preset = args
-        .preset
-        .as_deref()
-        .map(|name| load_preset("--preset", name))
-        .transpose()?;
-    let base = preset
-        .as_ref()
-        .map_or_else(CaseParams::default, |p| p.params.clone());
-    let spec = spec(
-        &args.model,
-        &args.lists,
-        base,
-        preset.as_ref().map(|p| &p.sweep),
-    )?;
-    let jobs = spec.jobs();
-    let mut out: Box<dyn Write> = match &args.out {
-        Some(path) => Box::new(std::io::BufWriter::new(
-            std::fs::File::create(path)
-                .map_err(|e| anyhow!(InputError(format!("--out {}: {e}", path.display()))))?,
-        )),
-        None => Box::new(std::io::BufWriter::new(std::io::stdout().lock())),
+/// The identity of a job's line: its first three fields `lambda,phi,"initial"`.
+/// Every line of the CSV starts with its job's key and a comma.
+pub fn job_key(spec: &SweepSpec, job: &Job) -> String {
+    key(
+        job.load_factor,
+        job.phase,
+        &spec.initials[job.initial].name(),
+    )
+}
+
+fn key(load_factor: f64, phase: f64, initial: &str) -> String {
+    format!("{load_factor},{phase},\"{initial}\"")
+}
+
+/// The key of a CSV line (see [`job_key`]), or `None` when the line is not
+/// a complete row of [`HEADER`]'s seven columns.
+pub fn row_key(line: &str) -> Option<&str> {
+    let open = line.find(",\"")?;
+    let close = open + 2 + line[open + 2..].find('"')?;
+    let (key, rest) = line.split_at(close + 1);
+    let fields: Vec<&str> = rest.strip_prefix(',')?.split(',').collect();
+    let numbers = key[..open].split(',').count() == 2;
+    (numbers && fields.len() == 4 && fields.iter().all(|f| !f.is_empty())).then_some(key)
+}
+
+/// The jobs of a sweep after `--shard`, and their line keys.
+pub fn shard_jobs(spec: &SweepSpec, shard: Option<&str>) -> Result<(Vec<Job>, Vec<String>)> {
+    let all = spec.jobs();
+    let jobs = match shard {
+        None => all,
+        Some(text) => Shard::parse(text)
+            .map_err(|e| anyhow!(super::InputError(format!("--shard {text}: {e}"))))?
+            .select(&all),
     };
-    let bar = progress(jobs.len());
-    let cancel = AtomicBool::new(false);
-    let rows = spec.run(&jobs, &|_| bar.inc(1), &cancel);
-    bar.finish_and_clear();
-    writeln!(out, "{CSV_HEADER}")?;
-    for row in &rows {
-        writeln!(out, "{}", row.csv_line())?;
+    let keys = jobs.iter().map(|j| job_key(spec, j)).collect();
+    Ok((jobs, keys))
+}
+
+pub fn sweep(args: SweepArgs) -> Result<ExitCode> {
+    let spec = grid_spec(&args.grid)?;
+    let (jobs, keys) = shard_jobs(&spec, args.shard.as_deref())?;
+    let mut out = Output::open(args.out.as_deref(), args.resume, HEADER, &keys, row_key)?;
+    let todo = &jobs[out.kept..];
+    if out.kept > 0 {
+        eprintln!(
+            "resuming: {} of {} runs are already in {}",
+            out.kept,
+            jobs.len(),
+            out.describe()
+        );
     }
-    out.flush()?;
-    warn_failures(&rows);
+    if todo.is_empty() {
+        return Ok(ExitCode::SUCCESS);
+    }
+    let interrupt = ctrl_c()?;
+    let bar = progress(jobs.len());
+    bar.set_position(out.kept as u64);
+    bar.reset_eta();
+    let mut failed = 0;
+    let result = spec.run_ordered(todo, interrupt, |row| {
+        out.line(&row.csv_line())?;
+        bar.inc(1);
+        if let Err(e) = &row.outcome {
+            failed += 1;
+            bar.suspend(|| {
+                eprintln!(
+                    "warning: run lambda = {}, phi = {}, initial {} failed: {e}",
+                    row.job.load_factor, row.job.phase, row.initial
+                )
+            });
+        }
+        anyhow::Ok(())
+    });
+    bar.finish_and_clear();
+    match result {
+        Err(e) if is_broken_pipe(&e) => return Ok(ExitCode::SUCCESS),
+        Err(e) => return Err(e),
+        Ok(progress) if !progress.is_complete() => {
+            return Ok(report_interrupt(&out, jobs.len()));
+        }
+        Ok(_) => {}
+    }
+    if failed > 0 {
+        eprintln!(
+            "warning: {failed} of {} runs failed (state 'failed' in the CSV)",
+            todo.len()
+        );
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shakedown::stepper::StepError;
+    use shakedown::sweep::{RowState, RunError};
+
+    #[test]
+    fn every_line_starts_with_its_key() {
+        let spec = grid_spec(&GridArgs {
+            preset: None,
+            lists: ListArgs {
+                lambdas: Some("0.5,1e-7".into()),
+                phis: Some("0,pi/3".into()),
+                initials: Some("OA,-7,3".into()),
+            },
+            model: ModelArgs::default(),
+        })
+        .unwrap();
+        for job in spec.jobs() {
+            let row = Row {
+                job,
+                initial: spec.initials[job.initial].name(),
+                outcome: Err(RunError::Step(StepError::NotSettled {
+                    load: shakedown::LoadPoint::new(1.0, 2.0),
+                    phase: "cycle 1, increment 1".into(),
+                    bisections: 12,
+                })),
+            };
+            assert_eq!(row.state(), RowState::Failed);
+            let line = row.csv_line();
+            assert!(line.contains(",failed,"), "{line}");
+            assert_eq!(
+                row_key(&line),
+                Some(job_key(&spec, &job).as_str()),
+                "{line}"
+            );
+        }
+        assert_eq!(HEADER.split(',').count(), 7);
+    }
+
+    #[test]
+    fn row_key_rejects_incomplete_lines() {
+        let line = "5.5,0,\"7,-7\",cyclic-slip,0.001,12,0";
+        assert_eq!(row_key(line), Some("5.5,0,\"7,-7\""));
+        for cut in 0..line.len() {
+            assert_eq!(row_key(&line[..cut]), None, "{}", &line[..cut]);
+        }
+        assert_eq!(row_key("a,b,c,d,e,f,g"), None);
+        assert_eq!(row_key("1,2,3,\"OA\",x,1,2,3"), None);
+    }
 }

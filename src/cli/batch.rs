@@ -1,0 +1,222 @@
+//! The command-line side of batch runs, shared by `sweep` and (later)
+//! `figure`: Ctrl-C, an output file that can be resumed, line-by-line
+//! writing that survives a closed pipe.
+//!
+//! How a batch command uses it (see `sweep.rs`):
+//!
+//! 1. Build the job list and each job's line key; slice it with
+//!    `--shard K/N` ([`shakedown::batch::Shard`]).
+//! 2. [`Output::open`] the `--out` file (or stdout). With `--resume` it keeps
+//!    the complete lines that match the job list's first keys, cuts off the
+//!    rest, and says how many jobs are done already.
+//! 3. [`ctrl_c`] gives the process-wide [`Interrupt`] that Ctrl-C raises.
+//! 4. Run the remaining jobs with
+//!    [`shakedown::batch::run_ordered`] (or `SweepSpec::run_ordered`),
+//!    writing each line with [`Output::line`] as it is delivered.
+//! 5. [`Output::finish`]; if the interrupt was raised, tell the user how to
+//!    resume and exit with [`INTERRUPTED`].
+
+use std::fs::{File, OpenOptions};
+use std::io::{self, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::OnceLock;
+
+use anyhow::{anyhow, Result};
+use shakedown::batch::{resume_point, Interrupt};
+
+use super::InputError;
+
+/// Exit status after an interrupt: 128 + SIGINT, what shells report for a
+/// process that Ctrl-C ended.
+pub const INTERRUPTED: u8 = 130;
+
+static INTERRUPT: Interrupt = Interrupt::new();
+static HANDLER: OnceLock<Result<(), String>> = OnceLock::new();
+
+/// The interrupt that Ctrl-C (SIGINT) raises, with the handler installed on
+/// first use. First press: start no new run, finish the runs in progress.
+/// Second: abandon those too. Third: exit at once (status 130). Even then,
+/// or after a hard kill (a batch system's time limit), the output holds
+/// complete lines but for at most the last one, which `--resume` discards.
+pub fn ctrl_c() -> Result<&'static Interrupt> {
+    let installed = HANDLER.get_or_init(|| {
+        ctrlc::set_handler(|| match INTERRUPT.request() {
+            1 => eprintln!(
+                "\ninterrupted: finishing the runs in progress (Ctrl-C again to abandon them)"
+            ),
+            2 => eprintln!("\ninterrupted: abandoning the runs in progress"),
+            _ => std::process::exit(i32::from(INTERRUPTED)),
+        })
+        .map_err(|e| e.to_string())
+    });
+    match installed {
+        Ok(()) => Ok(&INTERRUPT),
+        Err(e) => Err(anyhow!("cannot install the Ctrl-C handler: {e}")),
+    }
+}
+
+/// Is this (anywhere in its chain) a write to a closed pipe, as in
+/// `shakedown sweep | head`? Then the reader has all it wants: stop quietly.
+pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<io::Error>()
+            .is_some_and(|io| io.kind() == io::ErrorKind::BrokenPipe)
+    })
+}
+
+/// Print to stdout; a closed pipe is not an error (the caller stops).
+/// Returns false when the pipe is closed.
+pub fn print_stdout(text: &str) -> Result<bool> {
+    let mut out = io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(true),
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(false),
+        Err(e) => Err(anyhow!("cannot write to stdout: {e}")),
+    }
+}
+
+/// Where the lines go: a file (that may be resumed) or stdout.
+pub struct Output {
+    sink: Box<dyn Write>,
+    path: Option<PathBuf>,
+    /// Lines already in the file before this run (resumed).
+    pub kept: usize,
+    /// Lines written by this run.
+    pub written: usize,
+}
+
+impl Output {
+    /// Open `--out` (or stdout when `None`). Without `resume` the file is
+    /// created or truncated and the header written. With `resume` an
+    /// existing file must start with `header` and hold complete lines
+    /// whose keys (by `key_of`) are the first of `keys`; those are kept,
+    /// an incomplete last line is cut off, and [`Output::kept`] says how
+    /// many jobs to skip. A missing file starts afresh.
+    pub fn open<K: AsRef<str>>(
+        path: Option<&Path>,
+        resume: bool,
+        header: &str,
+        keys: &[K],
+        key_of: impl Fn(&str) -> Option<&str>,
+    ) -> Result<Output> {
+        let Some(path) = path else {
+            if resume {
+                return Err(anyhow!(InputError(
+                    "--resume needs --out FILE: it continues an interrupted output file".into()
+                )));
+            }
+            let mut out = Output {
+                sink: Box::new(io::BufWriter::new(io::stdout())),
+                path: None,
+                kept: 0,
+                written: 0,
+            };
+            out.raw(&format!("{header}\n"))?;
+            return Ok(out);
+        };
+        let cannot = |what: &str, e: io::Error| {
+            anyhow!(InputError(format!(
+                "--out {}: cannot {what}: {e}: expected a writable file path",
+                path.display()
+            )))
+        };
+        let existing = if resume {
+            match std::fs::read(path) {
+                Ok(bytes) => Some(bytes),
+                Err(e) if e.kind() == io::ErrorKind::NotFound => None,
+                Err(e) => return Err(cannot("read it to resume", e)),
+            }
+        } else {
+            None
+        };
+        let (file, kept, has_header) = match existing {
+            None => (
+                File::create(path).map_err(|e| cannot("create it", e))?,
+                0,
+                false,
+            ),
+            Some(bytes) => {
+                let point = resume_point(&bytes, header, keys, key_of).map_err(|e| {
+                    anyhow!(InputError(format!(
+                        "--resume --out {}: cannot resume this file: {e}",
+                        path.display()
+                    )))
+                })?;
+                let mut file = OpenOptions::new()
+                    .write(true)
+                    .open(path)
+                    .map_err(|e| cannot("open it to resume", e))?;
+                file.set_len(point.bytes as u64)
+                    .and_then(|()| file.seek(SeekFrom::End(0)).map(|_| ()))
+                    .map_err(|e| cannot("cut off its incomplete last line", e))?;
+                (file, point.kept, point.has_header)
+            }
+        };
+        let mut out = Output {
+            sink: Box::new(io::BufWriter::new(file)),
+            path: Some(path.to_path_buf()),
+            kept,
+            written: 0,
+        };
+        if !has_header {
+            out.raw(&format!("{header}\n"))?;
+        }
+        Ok(out)
+    }
+
+    fn raw(&mut self, text: &str) -> Result<()> {
+        self.sink
+            .write_all(text.as_bytes())
+            .and_then(|()| self.sink.flush())
+            .map_err(|e| self.write_error(e))
+    }
+
+    fn write_error(&self, e: io::Error) -> anyhow::Error {
+        match &self.path {
+            // Keep the io::Error in the chain so a closed pipe is recognised.
+            None => anyhow::Error::new(e).context("cannot write to stdout"),
+            Some(p) => {
+                anyhow::Error::new(e).context(format!("--out {}: cannot write", p.display()))
+            }
+        }
+    }
+
+    /// Write one complete line (a newline is added) and flush it, so that
+    /// the file never holds more than the last line incomplete.
+    pub fn line(&mut self, line: &str) -> Result<()> {
+        let mut text = String::with_capacity(line.len() + 1);
+        text.push_str(line);
+        text.push('\n');
+        self.raw(&text)?;
+        self.written += 1;
+        Ok(())
+    }
+
+    /// Where the lines go, for messages.
+    pub fn describe(&self) -> String {
+        match &self.path {
+            Some(p) => p.display().to_string(),
+            None => "stdout".into(),
+        }
+    }
+
+    /// Whether this output can be resumed (a file).
+    pub fn is_file(&self) -> bool {
+        self.path.is_some()
+    }
+}
+
+/// The end of an interrupted batch: say what is done and how to finish.
+pub fn report_interrupt(out: &Output, total: usize) -> ExitCode {
+    let done = out.kept + out.written;
+    if out.is_file() {
+        eprintln!(
+            "interrupted: {done} of {total} runs are in {}; run the same command with --resume to finish",
+            out.describe()
+        );
+    } else {
+        eprintln!("interrupted: {done} of {total} runs were written");
+    }
+    ExitCode::from(INTERRUPTED)
+}
