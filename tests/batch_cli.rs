@@ -196,8 +196,18 @@ fn interrupted(path: &Path, rows: usize, signals: usize) -> (Output, Duration) {
     let mut args = vec!["sweep"];
     args.extend_from_slice(LONG_GRID);
     args.extend_from_slice(&["--out", path.to_str().unwrap()]);
+    interrupt_command(&args, path, rows, signals)
+}
+
+/// Run `args`, wait until `path` has `rows` lines, send `signals` SIGINTs.
+fn interrupt_command(
+    args: &[&str],
+    path: &Path,
+    rows: usize,
+    signals: usize,
+) -> (Output, Duration) {
     let child = bin()
-        .args(&args)
+        .args(args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -228,6 +238,44 @@ fn interrupted(path: &Path, rows: usize, signals: usize) -> (Output, Duration) {
 
 fn wait(child: Child) -> Output {
     child.wait_with_output().unwrap()
+}
+
+#[test]
+fn ctrl_c_during_a_figure_leaves_complete_rows_and_no_plot() {
+    let d = dir("figure-ctrlc");
+    let out_dir = d.join("fig");
+    let csv = out_dir.join("fig8.csv");
+    let args = [
+        "figure",
+        "fig8",
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--lambda",
+        "4:7.4:0.02",
+        "--nodes",
+        "64",
+        "--steps",
+        "200",
+    ];
+    let (out, took) = interrupt_command(&args, &csv, 10, 1);
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(took < Duration::from_secs(20), "stopping took {took:?}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with(HEADER));
+    assert!(text.ends_with('\n'), "incomplete last line");
+    let rows = text.lines().count() - 1;
+    assert!(rows >= 10 && rows < 171 * 25, "{rows} rows");
+    assert!(
+        stderr.contains(&format!("interrupted: {rows} of ")),
+        "{stderr}"
+    );
+    assert!(
+        !out_dir.join("fig8.svg").exists(),
+        "no plot of a partial sweep"
+    );
+    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]

@@ -3,7 +3,6 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use anyhow::{anyhow, Result};
@@ -16,7 +15,8 @@ use shakedown::parse::{parse_angle, parse_number, parse_values};
 use shakedown::preset::{Axis, FigureKind, FigureSpec, Preset};
 use shakedown::sweep::{SweepSpec, CSV_HEADER};
 
-use super::sweep::{progress, spec, warn_failures, ListArgs};
+use super::batch::{ctrl_c, Output};
+use super::sweep::{job_key, progress, row_key, spec, warn_failures, ListArgs};
 use super::{load_preset, InputError, ModelArgs};
 
 #[derive(Debug, Args)]
@@ -69,16 +69,32 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             let spec = sweep_spec(&args, &preset)?;
             let limit = limit_of(&fig, &spec)?;
             let jobs = spec.jobs();
+            // Rows stream to the CSV in job order, one flushed line each, so
+            // that Ctrl-C leaves a file of complete rows (a prefix of the
+            // full table) and no half-drawn plot.
+            let keys: Vec<String> = jobs.iter().map(|j| job_key(&spec, j)).collect();
+            let csv_path = file(".csv");
+            let mut out = Output::open(Some(&csv_path), false, CSV_HEADER, &keys, row_key)?;
+            let interrupt = ctrl_c()?;
             let bar = progress(jobs.len());
-            let rows = spec.run(&jobs, &|_| bar.inc(1), &AtomicBool::new(false));
+            let mut rows = Vec::with_capacity(jobs.len());
+            let result = spec.run_ordered(&jobs, interrupt, |row| {
+                out.line(&row.csv_line())?;
+                bar.inc(1);
+                rows.push(row);
+                anyhow::Ok(())
+            });
             bar.finish_and_clear();
-            warn_failures(&rows);
-            let mut csv = format!("{CSV_HEADER}\n");
-            for r in &rows {
-                csv.push_str(&r.csv_line());
-                csv.push('\n');
+            if !result?.is_complete() {
+                eprintln!(
+                    "interrupted: {} of {} runs are in {} (complete rows only); no plot was drawn",
+                    rows.len(),
+                    jobs.len(),
+                    csv_path.display()
+                );
+                return Ok(ExitCode::from(super::batch::INTERRUPTED));
             }
-            write(&file(".csv"), &csv)?;
+            warn_failures(&rows);
             written.push(file(".csv"));
             if let Some(l) = &limit {
                 write_limit(&file("_limit.csv"), l, spec.disc.nodes())?;
