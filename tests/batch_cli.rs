@@ -266,7 +266,7 @@ fn ctrl_c_during_a_figure_leaves_complete_rows_and_no_plot() {
     assert!(text.starts_with(HEADER));
     assert!(text.ends_with('\n'), "incomplete last line");
     let rows = text.lines().count() - 1;
-    assert!(rows >= 10 && rows < 171 * 25, "{rows} rows");
+    assert!((10..171 * 25).contains(&rows), "{rows} rows");
     assert!(
         stderr.contains(&format!("interrupted: {rows} of ")),
         "{stderr}"
