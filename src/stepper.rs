@@ -24,6 +24,9 @@ pub enum StepError {
         phase: String,
         bisections: usize,
     },
+    /// The `optimal` initial slip could not be computed (model.md section 7).
+    #[error("initial path 'optimal': {0}")]
+    Initial(#[from] crate::limit::LimitError),
 }
 
 /// Options of the stepper.
@@ -145,6 +148,8 @@ pub struct Stepper {
     history: Vec<CycleRecord>,
     status: Status,
     increments: usize,
+    /// An initial condition that could not be set up: the first step reports it.
+    unresolved: Option<StepError>,
 }
 
 /// Set up the shared pieces of a run once.
@@ -177,13 +182,35 @@ impl Stepper {
         options: StepOptions,
     ) -> Self {
         let mut contact = Contact::new(material, ops);
-        if let Initial::Slip { slip, .. } = initial {
-            contact.set_slip(slip);
+        let mut unresolved = None;
+        let slip = match initial {
+            Initial::Slip { slip, .. } => Some(Arc::clone(slip)),
+            // The optimal slip of the lambda_2 problem for this cycle.
+            Initial::Optimal => match crate::limit::shakedown_limit(
+                &material,
+                cycle.center,
+                cycle.slope,
+                cycle.phase,
+                &disc,
+                crate::limit::DEFAULT_SAMPLES,
+            ) {
+                Ok(limit) => Some(Arc::new(limit.slip)),
+                Err(e) => {
+                    unresolved = Some(StepError::Initial(e));
+                    None
+                }
+            },
+            _ => None,
+        };
+        if let Some(slip) = slip {
+            contact.set_slip(&slip);
             contact.set_load_elastic(cycle.center);
         }
         let mut waypoints = initial.waypoints_to(cycle.center);
         waypoints.push(cycle.start());
-        Self::from_contact(contact, &waypoints, cycle, disc, options)
+        let mut stepper = Self::from_contact(contact, &waypoints, cycle, disc, options);
+        stepper.unresolved = unresolved;
+        stepper
     }
 
     /// Continue from a prepared contact (e.g. the state at `A`, which does
@@ -223,6 +250,7 @@ impl Stepper {
             history: Vec::new(),
             status: Status::Running,
             increments: 0,
+            unresolved: None,
         }
     }
 
@@ -342,6 +370,9 @@ impl Stepper {
     /// Advance one increment. Does nothing once the run has ended.
     pub fn step(&mut self) -> Result<StepReport, StepError> {
         let mut report = StepReport::default();
+        if let Some(e) = &self.unresolved {
+            return Err(e.clone());
+        }
         if self.is_finished() {
             return Ok(report);
         }

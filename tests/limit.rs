@@ -200,3 +200,22 @@ fn limit_command_prints_lambda_2_and_writes_the_slip() {
     assert!(stderr(&o).contains("samples"), "{}", stderr(&o));
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn a_stepper_given_the_unresolved_optimal_path_solves_the_limit_itself() {
+    use shakedown::params::Cycle;
+    use shakedown::stepper::Stepper;
+    let l = limit(0.0);
+    let lambda = l.load_factor + 0.05;
+    let mut direct = Stepper::new(
+        Material::paper(),
+        Discretisation::new(NODES, STEPS).unwrap(),
+        &Initial::Optimal,
+        Cycle::paper(lambda, 0.0).unwrap(),
+        StepOptions::default(),
+    );
+    let direct = direct.run_to_steady().unwrap();
+    let resolved = run_optimal(lambda, 0.0);
+    assert_eq!(direct.state, resolved.state);
+    assert!((direct.dissipation - resolved.dissipation).abs() <= 1e-9 * resolved.dissipation);
+}
