@@ -52,7 +52,10 @@ fn an_unsettled_active_set_is_a_typed_error_with_its_place() {
         load,
         phase,
         bisections,
-    } = &e;
+    } = &e
+    else {
+        panic!("expected an unsettled active set, got {e:?}");
+    };
     assert_eq!(*bisections, 0);
     // The first increment of the second segment, from (-0.94, 5.37)
     // towards (1.98, 3.7).
