@@ -122,8 +122,8 @@ pub fn spec(
         phases: phis,
         initials,
     };
-    let spec = SweepSpec::over(&case, &lists)
-        .map_err(|e| case_error(CaseError::Param(e), given))?;
+    let spec =
+        SweepSpec::over(&case, &lists).map_err(|e| case_error(CaseError::Param(e), given))?;
     Ok(spec)
 }
 

@@ -625,7 +625,9 @@ impl App {
 
     /// Whether the loop has stepping to do (else it can sleep longer).
     pub fn is_busy(&self) -> bool {
-        if self.sweep.as_ref().is_ok_and(|s| s.is_running() || s.started() && matches!(s.limit(), LimitState::Computing)) {
+        if self.sweep.as_ref().is_ok_and(|s| {
+            s.is_running() || s.started() && matches!(s.limit(), LimitState::Computing)
+        }) {
             return true;
         }
         self.view == View::Stepping

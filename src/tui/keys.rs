@@ -357,7 +357,10 @@ mod tests {
     #[test]
     fn arrows_mean_different_things_per_view() {
         let right = KeyEvent::new(KeyCode::Right, KeyModifiers::NONE);
-        assert_eq!(action_for(&right, View::Stepping), Some(Action::LoadFactorUp));
+        assert_eq!(
+            action_for(&right, View::Stepping),
+            Some(Action::LoadFactorUp)
+        );
         assert_eq!(action_for(&right, View::Sweep), Some(Action::SweepNextX));
         let tab = KeyEvent::new(KeyCode::Tab, KeyModifiers::NONE);
         assert_eq!(action_for(&tab, View::Stepping), Some(Action::ToggleView));

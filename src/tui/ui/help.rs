@@ -39,7 +39,10 @@ pub fn render(frame: &mut Frame, area: Rect, theme: &Theme, view: View) {
         .column_spacing(2)
         .block(
             theme
-                .panel(" Keys ")
+                .panel(match view {
+                    View::Stepping => " Keys: stepping view ",
+                    View::Sweep => " Keys: sweep view ",
+                })
                 .title_bottom(Line::from(Span::styled(" ? or Esc closes ", theme.label()))),
         );
     frame.render_widget(Clear, rect);

@@ -18,7 +18,7 @@ use crate::tui::app::{format_load_factor, format_phase, format_sci, App};
 use crate::tui::sweep::{LimitState, Sweep};
 
 /// Width of the legend and details column.
-const SIDE_WIDTH: u16 = 32;
+const SIDE_WIDTH: u16 = 35;
 /// Height of the legend: the states, failures and `lambda_2`, bordered.
 const LEGEND_HEIGHT: u16 = 11;
 
@@ -54,8 +54,7 @@ fn marker(state: RowState) -> (&'static str, Color, &'static str) {
 }
 
 pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let [body, status] =
-        Layout::vertical([Constraint::Fill(1), Constraint::Length(3)]).areas(area);
+    let [body, status] = Layout::vertical([Constraint::Fill(1), Constraint::Length(3)]).areas(area);
     let [plot, side] =
         Layout::horizontal([Constraint::Fill(1), Constraint::Length(SIDE_WIDTH)]).areas(body);
     let [legend, details] =
@@ -130,8 +129,13 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
     // not rescale with every run that arrives.
     let y1 = nice_ceiling(w_max);
 
-    let y_labels = [tick(y1), tick(y1 / 2.0), "0".to_string()];
-    let label_width = y_labels.iter().map(|l| l.chars().count()).max().unwrap_or(1) as u16 + 1;
+    let y_labels = [w_label(y1), w_label(y1 / 2.0), "0".to_string()];
+    let label_width = y_labels
+        .iter()
+        .map(|l| l.chars().count())
+        .max()
+        .unwrap_or(1) as u16
+        + 1;
     let [y_axis, right] =
         Layout::horizontal([Constraint::Length(label_width), Constraint::Fill(1)]).areas(inner);
     let [canvas_area, x_axis] =
@@ -140,7 +144,11 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
     // W labels at the top, middle and bottom rows of the canvas.
     let rows = canvas_area.height as usize;
     let mut lines = vec![Line::default(); rows];
-    for (row, text) in [(0, &y_labels[0]), (rows / 2, &y_labels[1]), (rows - 1, &y_labels[2])] {
+    for (row, text) in [
+        (0, &y_labels[0]),
+        (rows / 2, &y_labels[1]),
+        (rows - 1, &y_labels[2]),
+    ] {
         lines[row] = Line::from(Span::styled(text.clone(), theme.label())).right_aligned();
     }
     if rows >= 4 {
@@ -149,7 +157,12 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
     }
     frame.render_widget(
         Paragraph::new(lines),
-        Rect::new(y_axis.x, y_axis.y, y_axis.width.saturating_sub(1), rows as u16),
+        Rect::new(
+            y_axis.x,
+            y_axis.y,
+            y_axis.width.saturating_sub(1),
+            rows as u16,
+        ),
     );
 
     // x labels: the ends, the axis name, and a caret under the cursor so
@@ -166,7 +179,10 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
     let left = x_label(axis, x0);
     let right_text = x_label(axis, x1);
     put(0, &left);
-    put(width.saturating_sub(right_text.chars().count()), &right_text);
+    put(
+        width.saturating_sub(right_text.chars().count()),
+        &right_text,
+    );
     let name = axis_name(axis);
     put((width.saturating_sub(name.len())) / 2, name);
     let col = |x: f64| -> usize {
@@ -181,7 +197,9 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
         let c = col(x);
         let chars: Vec<char> = spans[0].content.chars().collect();
         let before: String = chars[..c.min(chars.len())].iter().collect();
-        let after: String = chars.get(c + 1..).map_or(String::new(), |s| s.iter().collect());
+        let after: String = chars
+            .get(c + 1..)
+            .map_or(String::new(), |s| s.iter().collect());
         spans = vec![
             Span::styled(before, theme.label()),
             Span::styled("▲", theme.value()),
@@ -196,14 +214,12 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
     };
     let limit_style = theme.fg(Color::LightCyan);
     let limit_color = theme.color(Color::LightCyan);
-    let axis_color = theme.color(Color::DarkGray);
     let selected = sweep.selected().and_then(|(_, r)| r);
     let canvas = Canvas::default()
         .marker(Marker::Braille)
         .x_bounds([x0, x1])
         .y_bounds([0.0, y1])
         .paint(move |ctx| {
-            ctx.draw(&CanvasLine::new(x0, 0.0, x1, 0.0, axis_color));
             if let Some(l2) = limit.filter(|l| (x0..=x1).contains(l)) {
                 ctx.draw(&CanvasLine::new(l2, 0.0, l2, y1, limit_color));
             }
@@ -228,6 +244,15 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
             }
         });
     frame.render_widget(canvas, canvas_area);
+}
+
+/// A `W` tick: [`tick`] unless it would round (2.5e-3 is not 3e-3).
+fn w_label(v: f64) -> String {
+    let t = tick(v);
+    match t.parse::<f64>() {
+        Ok(p) if (p - v).abs() <= 1e-9 * v.abs().max(1e-300) => t,
+        _ => format!("{v:.1e}"),
+    }
 }
 
 /// Where a run's marker goes; a failed run has no `W` and sits on the axis.
@@ -273,7 +298,7 @@ fn render_legend(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
 }
 
 fn render_details(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
-    let label = |s: &str| Span::styled(format!(" {s:<8}"), theme.label());
+    let label = |s: &str| Span::styled(format!(" {s:<7}"), theme.label());
     let value = |s: String| Span::styled(s, theme.value());
     let mut lines = Vec::new();
     if let Some((job, row)) = sweep.selected() {
@@ -282,7 +307,10 @@ fn render_details(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
             label("lambda"),
             value(format_load_factor(job.load_factor)),
         ]));
-        lines.push(Line::from(vec![label("phi"), value(format_phase(job.phase))]));
+        lines.push(Line::from(vec![
+            label("phi"),
+            value(format_phase(job.phase)),
+        ]));
         lines.push(Line::from(vec![
             label("path"),
             value(sweep.initial(job).name()),
@@ -294,14 +322,20 @@ fn render_details(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
                 Span::styled("not run yet", theme.dim()),
             ])),
             Some(Ok(s)) => {
-                let (glyph, color, _) = marker(RowState::Steady(s.state));
+                let (glyph, color, name) = marker(RowState::Steady(s.state));
                 lines.push(Line::from(vec![
                     label("state"),
                     Span::styled(format!("{glyph} "), theme.fg(color)),
-                    value(s.state.as_str().to_string()),
+                    value(name.to_string()),
                 ]));
-                lines.push(Line::from(vec![label("W"), value(format_sci(s.dissipation))]));
-                lines.push(Line::from(vec![label("cycles"), value(s.cycles.to_string())]));
+                lines.push(Line::from(vec![
+                    label("W"),
+                    value(format_sci(s.dissipation)),
+                ]));
+                lines.push(Line::from(vec![
+                    label("cycles"),
+                    value(s.cycles.to_string()),
+                ]));
             }
             Some(Err(e)) => {
                 lines.push(Line::from(vec![
@@ -312,7 +346,7 @@ fn render_details(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
             }
         }
         lines.push(Line::from(Span::styled(
-            " Enter opens it in the stepping view",
+            " Enter: open in stepping view",
             theme.dim(),
         )));
     } else {
