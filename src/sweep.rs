@@ -14,10 +14,12 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::batch::{run_ordered, Abort, Interrupt, Progress};
+use crate::case::Case;
 use crate::contact::Contact;
 use crate::limit::{shakedown_limit, LimitError, DEFAULT_SAMPLES};
 use crate::params::{Cycle, Discretisation, LoadPoint, Material, ParamError};
 use crate::path::Initial;
+use crate::preset::SweepLists;
 use crate::steady::SteadyState;
 use crate::stepper::{operators, Status, StepError, StepOptions, Stepper, Summary};
 
@@ -119,6 +121,24 @@ impl Row {
 type OptimalStart = Result<Contact, LimitError>;
 
 impl SweepSpec {
+    /// The sweep of `lists` over the model of `case` (material, contact,
+    /// solver options, cycle centre and slope): what `shakedown sweep` and
+    /// the terminal's sweep view both run, so they cannot drift apart.
+    pub fn over(case: &Case, lists: &SweepLists) -> Result<SweepSpec, ParamError> {
+        let spec = SweepSpec {
+            material: case.material,
+            disc: case.disc,
+            options: case.options,
+            center: case.cycle.center,
+            slope: case.cycle.slope,
+            load_factors: lists.load_factors.clone(),
+            phases: lists.phases.clone(),
+            initials: lists.initials.clone(),
+        };
+        spec.validate()?;
+        Ok(spec)
+    }
+
     /// Every run, in output order: `lambda` outermost, then `phi`, then the
     /// initial paths in their given order.
     pub fn jobs(&self) -> Vec<Job> {

@@ -8,13 +8,21 @@ use ratatui::backend::TestBackend;
 use ratatui::Terminal;
 use shakedown::case::Case;
 use shakedown::stepper::{Phase, Status};
-use shakedown::tui::app::{App, Config, Goal};
-use shakedown::tui::keys::{event_for, Action, BINDINGS};
+use shakedown::tui::app::{App, Config, Goal, View};
+use shakedown::tui::keys::{bindings_for, event_for, Action, BINDINGS};
 use shakedown::tui::{default_params, ui};
 
+mod common;
+
+/// The default case, with a tiny sweep for the sweep view so that keys
+/// which start it do not start a full preset's.
 fn app() -> App {
     let case = Case::from_params(&default_params()).expect("the default case is valid");
-    App::new(case, Config { color: true })
+    App::with_sweep(
+        case,
+        Config { color: true },
+        Ok(common::tiny_sweep_source()),
+    )
 }
 
 fn press(app: &mut App, code: KeyCode, modifiers: KeyModifiers) {
@@ -46,9 +54,10 @@ fn assert_restarted(app: &App) {
 
 /// What each action must do. The match is exhaustive, so an action added
 /// to the table without a test here does not compile.
-fn check(action: Action, event: KeyEvent) {
+fn check(action: Action, event: KeyEvent, view: View) {
     let mut app = app();
     app.advance(50);
+    app.show_view(view);
     let lambda = app.load_factor();
     let phase = app.phase();
     let handle = |app: &mut App| app.handle_key(event);
@@ -209,16 +218,149 @@ fn check(action: Action, event: KeyEvent) {
             handle(&mut app);
             assert!(app.should_quit());
         }
+        Action::ToggleView => {
+            handle(&mut app);
+            let other = match view {
+                View::Stepping => View::Sweep,
+                View::Sweep => View::Stepping,
+            };
+            assert_eq!(app.view(), other);
+            if other == View::Sweep {
+                assert!(
+                    app.sweep().unwrap().started(),
+                    "the sweep starts when shown"
+                );
+            }
+            handle(&mut app);
+            assert_eq!(app.view(), view);
+        }
+        Action::SweepPrevX | Action::SweepNextX => {
+            // Three lambdas: start in the middle so both ways move.
+            app.apply(Action::SweepNextX);
+            handle(&mut app);
+            let expected = if action == Action::SweepNextX { 2 } else { 0 };
+            assert_eq!(app.sweep().unwrap().cursor(), (expected, 0));
+            // Clamped at the ends rather than wrapping.
+            handle(&mut app);
+            handle(&mut app);
+            assert_eq!(app.sweep().unwrap().cursor(), (expected, 0));
+        }
+        Action::SweepPrevRun | Action::SweepNextRun => {
+            // Two initial paths per lambda: either way reaches the other,
+            // and a second press wraps back.
+            handle(&mut app);
+            assert_eq!(app.sweep().unwrap().cursor(), (0, 1));
+            handle(&mut app);
+            assert_eq!(app.sweep().unwrap().cursor(), (0, 0));
+        }
+        Action::OpenRun => {
+            app.apply(Action::SweepNextX);
+            app.apply(Action::SweepNextRun);
+            handle(&mut app);
+            assert_eq!(app.view(), View::Stepping);
+            assert_eq!(app.load_factor(), 5.5);
+            assert_eq!(app.phase(), 0.0);
+            assert_eq!(app.paths()[app.path_index()].name(), "7,-7");
+            assert_eq!(app.case().initial.name(), "7,-7");
+            assert!(app.is_running());
+            assert_eq!(app.stepper().increments(), 0);
+            let notice = app.notice().unwrap_or_default();
+            assert!(notice.contains("opened lambda 5.50"), "{notice}");
+        }
+        Action::RestartSweep => {
+            handle(&mut app);
+            let sweep = app.sweep().unwrap();
+            assert!(sweep.started());
+            assert_eq!(sweep.done(), 0);
+            assert!(app.notice().unwrap_or_default().contains("restarted"));
+        }
     }
 }
 
 #[test]
 fn every_key_in_the_table_does_what_it_says() {
-    for binding in BINDINGS {
-        for k in binding.keys {
-            check(binding.action, event_for(k));
+    for view in [View::Stepping, View::Sweep] {
+        for binding in bindings_for(view) {
+            for k in binding.keys {
+                check(binding.action, event_for(k), view);
+            }
         }
     }
+}
+
+/// The sweep runs in the background and its rows arrive while frames go
+/// on; Enter then opens a finished run, and q cancels a sweep in progress.
+#[test]
+fn the_sweep_fills_in_and_enter_opens_a_run() {
+    let mut app = app();
+    key(&mut app, KeyCode::Char('v'));
+    assert_eq!(app.view(), View::Sweep);
+    let deadline = std::time::Instant::now() + Duration::from_secs(120);
+    while app.sweep().unwrap().done() < 6 || app.sweep().unwrap().is_running() {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the tiny sweep took too long"
+        );
+        app.tick(Duration::from_millis(8));
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let sweep = app.sweep().unwrap();
+    assert_eq!(sweep.total(), 6);
+    let known = |s: &shakedown::tui::sweep::LimitState| {
+        !matches!(s, shakedown::tui::sweep::LimitState::Computing)
+    };
+    while !known(app.sweep().unwrap().limit()) {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "lambda_2 took too long"
+        );
+        app.tick(Duration::from_millis(8));
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert!(matches!(
+        app.sweep().unwrap().limit(),
+        shakedown::tui::sweep::LimitState::Known(_)
+    ));
+    let mut terminal = Terminal::new(TestBackend::new(80, 24)).unwrap();
+    terminal.draw(|f| ui::draw(f, &app)).unwrap();
+    let text = terminal.backend().to_string();
+    assert!(text.contains("6/6 runs"), "{text}");
+    assert!(text.contains("λ2="), "{text}");
+
+    key(&mut app, KeyCode::Right);
+    key(&mut app, KeyCode::Right);
+    key(&mut app, KeyCode::Up);
+    let (job, row) = app.sweep().unwrap().selected().unwrap();
+    assert_eq!((job.load_factor, job.initial), (7.0, 1));
+    assert!(row.is_some());
+    key(&mut app, KeyCode::Enter);
+    assert_eq!(app.view(), View::Stepping);
+    assert_eq!(app.load_factor(), 7.0);
+    assert_eq!(app.case().initial.name(), "7,-7");
+
+    // Rerun, then quit while it runs: the runs not started are dropped.
+    key(&mut app, KeyCode::Tab);
+    key(&mut app, KeyCode::Char('r'));
+    assert!(app.sweep().unwrap().is_running());
+    key(&mut app, KeyCode::Char('q'));
+    assert!(app.should_quit());
+    assert!(!app.sweep().unwrap().is_running());
+}
+
+/// The arrows move the sweep cursor in the sweep view and change the case
+/// in the stepping view: one table, two meanings.
+#[test]
+fn arrows_follow_the_view() {
+    let mut app = app();
+    app.show_view(View::Sweep);
+    let lambda = app.load_factor();
+    key(&mut app, KeyCode::Right);
+    assert_eq!(app.load_factor(), lambda);
+    assert_eq!(app.sweep().unwrap().cursor(), (1, 0));
+    app.show_view(View::Stepping);
+    key(&mut app, KeyCode::Right);
+    assert!((app.load_factor() - (lambda + 0.05)).abs() < 1e-12);
+    assert_eq!(app.sweep().unwrap().cursor(), (1, 0));
 }
 
 #[test]
@@ -254,7 +396,7 @@ fn the_table_covers_the_issue_keys() {
     ];
     for (code, mods, action) in cases {
         assert_eq!(
-            shakedown::tui::keys::action_for(&KeyEvent::new(code, mods)),
+            shakedown::tui::keys::action_for(&KeyEvent::new(code, mods), View::Stepping),
             Some(action),
             "{code:?} {mods:?}"
         );
@@ -265,7 +407,7 @@ fn the_table_covers_the_issue_keys() {
         (KeyCode::Char('c'), KeyModifiers::CONTROL),
     ] {
         assert_eq!(
-            shakedown::tui::keys::action_for(&KeyEvent::new(code, mods)),
+            shakedown::tui::keys::action_for(&KeyEvent::new(code, mods), View::Stepping),
             Some(Action::Quit)
         );
     }

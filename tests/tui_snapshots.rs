@@ -5,7 +5,9 @@ use ratatui::backend::TestBackend;
 use ratatui::style::Color;
 use ratatui::Terminal;
 use shakedown::case::Case;
-use shakedown::tui::app::{App, Config};
+use shakedown::tui::app::{App, Config, View};
+
+mod common;
 use shakedown::tui::{default_params, ui};
 
 /// Into the second cycle of the default case: the transient and a whole
@@ -62,7 +64,7 @@ fn help_overlay_80x24() {
     let mut app = app_after(10);
     app.apply(shakedown::tui::keys::Action::Help);
     let text = screen(&app, 80, 24).backend().to_string();
-    for b in shakedown::tui::keys::BINDINGS {
+    for b in shakedown::tui::keys::bindings_for(View::Stepping) {
         assert!(text.contains(b.help), "help lacks {:?}", b.help);
     }
     insta::assert_snapshot!(text);
@@ -128,6 +130,75 @@ fn every_panel_has_its_title() {
             "lambda = 6.00",
         ] {
             assert!(text.contains(title), "{w}x{h} lacks {title}:\n{text}");
+        }
+    }
+}
+
+/// The sweep view with every run injected (no background thread, so no
+/// timing): all marker kinds, a failed run, lambda_2 and the cursor.
+fn sweep_app(color: bool) -> App {
+    let case = Case::from_params(&default_params()).expect("the default case is valid");
+    let source = common::tiny_sweep_source();
+    let rows = common::fake_rows(&source);
+    let mut app = App::with_sweep(case, Config { color }, Ok(source));
+    let sweep = app.sweep_mut().expect("a sweep");
+    for row in rows {
+        sweep.insert(row);
+    }
+    sweep.set_limit(Ok(shakedown::limit::Limit {
+        load_factor: 5.2,
+        lower_bound: 5.2,
+        slip: vec![0.0; 32],
+        times: vec![],
+        line: true,
+        max_violation: 0.0,
+        iterations: 0,
+    }));
+    sweep.move_x(1);
+    sweep.move_run(1);
+    app.show_view(View::Sweep);
+    app
+}
+
+#[test]
+fn sweep_view_80x24() {
+    insta::assert_snapshot!(screen(&sweep_app(true), 80, 24).backend());
+}
+
+#[test]
+fn sweep_view_160x48() {
+    insta::assert_snapshot!(screen(&sweep_app(true), 160, 48).backend());
+}
+
+#[test]
+fn sweep_view_help_lists_its_keys() {
+    let mut app = sweep_app(true);
+    app.apply(shakedown::tui::keys::Action::Help);
+    let text = screen(&app, 80, 24).backend().to_string();
+    for b in shakedown::tui::keys::bindings_for(View::Sweep) {
+        assert!(text.contains(b.help), "help lacks {:?}", b.help);
+    }
+    assert!(
+        !text.contains("lambda + 0.05"),
+        "stepping keys in the sweep help"
+    );
+}
+
+#[test]
+fn sweep_view_draws_at_any_size_and_without_colour() {
+    let app = sweep_app(false);
+    for (w, h) in [
+        (80, 24),
+        (81, 25),
+        (120, 40),
+        (300, 24),
+        (80, 100),
+        (20, 5),
+        (0, 0),
+    ] {
+        let t = screen(&app, w, h);
+        for cell in t.backend().buffer().content() {
+            assert_eq!(cell.fg, Color::Reset);
         }
     }
 }

@@ -372,12 +372,15 @@ fn is_input_error(e: &anyhow::Error) -> bool {
 }
 
 fn tui(args: TuiArgs) -> Result<ExitCode> {
-    let base = args.case.base(shakedown::tui::default_params())?;
+    let preset = args.case.preset()?;
+    let base = preset
+        .as_ref()
+        .map_or_else(shakedown::tui::default_params, |p| p.params.clone());
     let (_, case) = args.case.case(base)?;
     // Before anything touches the terminal, so a pipe gets no escape codes
     // and the exit status says "bad input" rather than "failed".
     shakedown::tui::terminal::check_tty().map_err(|e| anyhow!(InputError(e.to_string())))?;
-    shakedown::tui::run(case)?;
+    shakedown::tui::run(case, preset)?;
     Ok(ExitCode::SUCCESS)
 }
 

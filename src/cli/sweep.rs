@@ -117,18 +117,13 @@ pub fn spec(
     // The initial paths are already resolved; validate the rest.
     params.initial = "OA".into();
     let case = Case::from_params(&params).map_err(|e| case_error(e, given))?;
-    let spec = SweepSpec {
-        material: case.material,
-        disc: case.disc,
-        options: case.options,
-        center: case.cycle.center,
-        slope: case.cycle.slope,
+    let lists = SweepLists {
         load_factors: lambdas,
         phases: phis,
         initials,
     };
-    spec.validate()
-        .map_err(|e| case_error(CaseError::Param(e), given))?;
+    let spec =
+        SweepSpec::over(&case, &lists).map_err(|e| case_error(CaseError::Param(e), given))?;
     Ok(spec)
 }
 

@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 use crossterm::event::KeyEvent;
 
 use super::keys::{self, Action};
+use super::sweep::{LimitState, Sweep, SweepSource};
 use crate::case::Case;
 use crate::contact::{Operators, SlipDirection};
 use crate::params::Cycle;
@@ -61,6 +62,18 @@ impl Default for Config {
         Self { color: true }
     }
 }
+
+/// What the screen shows: the one run being stepped, or a sweep's map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum View {
+    #[default]
+    Stepping,
+    Sweep,
+}
+
+/// The preset the sweep view uses when the explorer was started without
+/// one: the paper's Fig. 3, which the default case belongs to.
+pub const DEFAULT_SWEEP_PRESET: &str = "fig3";
 
 /// A stopping point the user asked for with `c` or `s`, reached
 /// progressively over several frames so keys stay live meanwhile.
@@ -125,11 +138,25 @@ pub struct App {
     last_event: Option<String>,
     notice: Option<String>,
     failure: Option<String>,
+    view: View,
+    /// The sweep view's sweep, or why there is none.
+    sweep: Result<Sweep, String>,
 }
 
 impl App {
-    /// The explorer on `case`, running.
+    /// The explorer on `case`, running, with the built-in
+    /// [`DEFAULT_SWEEP_PRESET`] for the sweep view.
     pub fn new(case: Case, config: Config) -> Self {
+        let source = crate::preset::load(DEFAULT_SWEEP_PRESET)
+            .map_err(|e| e.to_string())
+            .and_then(|p| SweepSource::from_preset(&p, &case).map_err(|e| e.to_string()));
+        Self::with_sweep(case, config, source)
+    }
+
+    /// The explorer on `case` with `source` for the sweep view (an error
+    /// is shown there instead of a map). The sweep starts the first time
+    /// the sweep view opens, so a user who never looks at it pays nothing.
+    pub fn with_sweep(case: Case, config: Config, source: Result<SweepSource, String>) -> Self {
         let operators = stepper::operators(&case.disc);
         let stepper = Self::fresh_stepper(&case, &operators);
         let mut paths = Initial::paper_set();
@@ -162,6 +189,8 @@ impl App {
             last_event: None,
             notice: None,
             failure: None,
+            view: View::Stepping,
+            sweep: source.map(Sweep::new),
         }
     }
 
@@ -244,11 +273,30 @@ impl App {
         &self.zones
     }
 
+    pub fn view(&self) -> View {
+        self.view
+    }
+    /// The sweep view's sweep, or why there is none.
+    pub fn sweep(&self) -> Result<&Sweep, &str> {
+        self.sweep.as_ref().map_err(String::as_str)
+    }
+    /// For tests and tools that feed rows in themselves (as the background
+    /// channel does), without starting the background sweep.
+    pub fn sweep_mut(&mut self) -> Option<&mut Sweep> {
+        self.sweep.as_mut().ok()
+    }
+
+    /// Show `view` without starting anything: what snapshots use, so the
+    /// map holds only the rows they inject.
+    pub fn show_view(&mut self, view: View) {
+        self.view = view;
+    }
+
     // ----- input ------------------------------------------------------------
 
     /// Dispatch a key through the key table.
     pub fn handle_key(&mut self, key: KeyEvent) {
-        let Some(action) = keys::action_for(&key) else {
+        let Some(action) = keys::action_for(&key, self.view) else {
             return;
         };
         // With the help open, Esc closes it rather than quitting: the
@@ -315,13 +363,125 @@ impl App {
                 });
             }
             Action::Help => self.help = !self.help,
-            Action::Quit => self.quit = true,
+            Action::Quit => self.request_quit(),
+            Action::ToggleView => self.toggle_view(),
+            Action::SweepPrevX => self.with_sweep_mut(|s| s.move_x(-1)),
+            Action::SweepNextX => self.with_sweep_mut(|s| s.move_x(1)),
+            Action::SweepPrevRun => self.with_sweep_mut(|s| s.move_run(-1)),
+            Action::SweepNextRun => self.with_sweep_mut(|s| s.move_run(1)),
+            Action::OpenRun => self.open_selected(),
+            Action::RestartSweep => {
+                if let Ok(s) = &mut self.sweep {
+                    s.start();
+                    self.notice = Some("sweep restarted".into());
+                }
+            }
         }
     }
 
-    /// Quit from outside the key table (a SIGINT).
+    /// Quit from outside the key table (a SIGINT). The sweep's runs not yet
+    /// started are dropped so the process is not kept busy on the way out.
     pub fn request_quit(&mut self) {
         self.quit = true;
+        if let Ok(s) = &mut self.sweep {
+            s.cancel();
+        }
+    }
+
+    fn with_sweep_mut(&mut self, f: impl FnOnce(&mut Sweep)) {
+        if let Ok(s) = &mut self.sweep {
+            f(s);
+        }
+    }
+
+    fn toggle_view(&mut self) {
+        self.view = match self.view {
+            View::Stepping => View::Sweep,
+            View::Sweep => View::Stepping,
+        };
+        match (&mut self.sweep, self.view) {
+            (Ok(s), View::Sweep) if !s.started() => {
+                s.start();
+                self.notice = Some(format!(
+                    "sweep {} started in the background ({} runs)",
+                    s.source().name,
+                    s.total()
+                ));
+            }
+            (Err(e), View::Sweep) => self.notice = Some(format!("no sweep: {e}")),
+            _ => {}
+        }
+    }
+
+    /// Open the run under the sweep cursor in the stepping view: its
+    /// `lambda`, `phi` and initial path, restarted from O like the keys
+    /// that change them.
+    fn open_selected(&mut self) {
+        let Ok(sweep) = &self.sweep else {
+            return;
+        };
+        let Some((job, _)) = sweep.selected() else {
+            self.notice = Some("no run under the cursor".into());
+            return;
+        };
+        let job = *job;
+        let initial = match sweep.initial(&job) {
+            // The stepper needs the slip itself. The limit computed for the
+            // map at this phase is that slip; only when it is not known yet
+            // (or is for another phase) is the programme solved here.
+            Initial::Optimal => match sweep.limit() {
+                LimitState::Known(l) if sweep.source().spec.phases == [job.phase] => {
+                    Initial::Slip {
+                        name: "optimal".into(),
+                        slip: Arc::new(l.slip.clone()),
+                    }
+                }
+                _ => match Cycle::new(
+                    self.case.cycle.center,
+                    job.load_factor,
+                    self.case.cycle.slope,
+                    job.phase,
+                )
+                .map_err(|e| e.to_string())
+                .and_then(|c| {
+                    crate::limit::optimal_initial(&self.case.material, &c, &self.case.disc)
+                        .map_err(|e| e.to_string())
+                }) {
+                    Ok(i) => i,
+                    Err(e) => {
+                        self.notice = Some(format!("cannot open the optimal slip: {e}"));
+                        return;
+                    }
+                },
+            },
+            other => other.clone(),
+        };
+        let c = &self.case.cycle;
+        let cycle = match Cycle::new(c.center, job.load_factor, c.slope, job.phase) {
+            Ok(cycle) => cycle,
+            Err(e) => {
+                self.notice = Some(e.to_string());
+                return;
+            }
+        };
+        self.case.cycle = cycle;
+        self.path_index = match self.paths.iter().position(|p| *p == initial) {
+            Some(i) => i,
+            None => {
+                self.paths.push(initial.clone());
+                self.paths.len() - 1
+            }
+        };
+        self.case.initial = initial;
+        self.view = View::Stepping;
+        self.running = true;
+        let what = format!(
+            "opened lambda {}, phi {}, path {}",
+            format_load_factor(job.load_factor),
+            format_phase(job.phase),
+            self.case.initial.name()
+        );
+        self.restart(&what);
     }
 
     fn can_step(&mut self) -> bool {
@@ -442,6 +602,14 @@ impl App {
     /// budget allows), else `speed` increments if running.
     pub fn tick(&mut self, budget: Duration) {
         let deadline = Instant::now() + budget;
+        if let Ok(s) = &mut self.sweep {
+            s.poll();
+        }
+        // The stepping run waits while the map is shown: its increments
+        // would only take a core from the sweep the user is watching.
+        if self.view == View::Sweep {
+            return;
+        }
         if self.goal.is_some() {
             self.run_batch(usize::MAX, Some(deadline));
         } else if self.running {
@@ -457,7 +625,13 @@ impl App {
 
     /// Whether the loop has stepping to do (else it can sleep longer).
     pub fn is_busy(&self) -> bool {
-        (self.running || self.goal.is_some())
+        if self.sweep.as_ref().is_ok_and(|s| {
+            s.is_running() || s.started() && matches!(s.limit(), LimitState::Computing)
+        }) {
+            return true;
+        }
+        self.view == View::Stepping
+            && (self.running || self.goal.is_some())
             && self.failure.is_none()
             && !self.stepper.is_finished()
     }

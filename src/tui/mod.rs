@@ -1,12 +1,15 @@
-//! The terminal explorer: live stepping of the contact.
+//! The terminal explorer: live stepping of the contact, and a sweep view
+//! whose map of `W` fills in as a background sweep runs.
 //!
-//! [`app`] is the state machine (no I/O), [`keys`] the one key table,
-//! [`event`] the loop's inputs, [`terminal`] setup and restore, and [`ui`]
-//! the panels. The loop here steps within a per-frame budget and draws.
+//! [`app`] is the state machine (no I/O), [`sweep`] the sweep view's state
+//! and its background threads, [`keys`] the one key table, [`event`] the
+//! loop's inputs, [`terminal`] setup and restore, and [`ui`] the panels.
+//! The loop here steps within a per-frame budget and draws.
 
 pub mod app;
 pub mod event;
 pub mod keys;
+pub mod sweep;
 pub mod terminal;
 pub mod ui;
 
@@ -15,6 +18,7 @@ use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use crate::case::{Case, CaseParams};
+use crate::preset::Preset;
 use app::{App, Config};
 use event::Event;
 
@@ -110,11 +114,20 @@ impl FrameStats {
     }
 }
 
-/// Run the explorer on `case` until the user quits.
-pub fn run(case: Case) -> Result<(), TuiError> {
+/// Run the explorer on `case` until the user quits. The sweep view runs
+/// `preset`'s sweep over the case's model, or the built-in
+/// [`app::DEFAULT_SWEEP_PRESET`] without one.
+pub fn run(case: Case, preset: Option<Preset>) -> Result<(), TuiError> {
     terminal::check_tty()?;
     let interrupted = terminal::interrupt_flag();
-    let mut app = App::new(case, Config::from_env());
+    let config = Config::from_env();
+    let mut app = match preset {
+        Some(p) => {
+            let source = sweep::SweepSource::from_preset(&p, &case).map_err(|e| e.to_string());
+            App::with_sweep(case, config, source)
+        }
+        None => App::new(case, config),
+    };
     let mut term = terminal::setup()?;
     let result = event_loop(&mut term, &mut app, &interrupted);
     terminal::restore();

@@ -131,3 +131,72 @@ pub fn png_size(bytes: &[u8]) -> Option<(u32, u32)> {
     let h = u32::from_be_bytes(bytes[20..24].try_into().ok()?);
     Some((w, h))
 }
+
+/// A sweep small enough for a test: 3 lambdas x 2 initial paths on a
+/// coarse contact (32 nodes, 100 increments per cycle), seconds at most.
+pub fn tiny_sweep_source() -> shakedown::tui::sweep::SweepSource {
+    use shakedown::case::{Case, CaseParams};
+    use shakedown::path::Initial;
+    use shakedown::preset::{Axis, SweepLists};
+    let params = CaseParams {
+        nodes: 32,
+        steps: 100,
+        ..CaseParams::default()
+    };
+    let case = Case::from_params(&params).expect("a valid tiny case");
+    let lists = SweepLists {
+        load_factors: vec![4.0, 5.5, 7.0],
+        phases: vec![0.0],
+        initials: vec![
+            Initial::parse("OA").unwrap(),
+            Initial::parse("7,-7").unwrap(),
+        ],
+    };
+    shakedown::tui::sweep::SweepSource {
+        name: "tiny".into(),
+        spec: shakedown::sweep::SweepSpec::over(&case, &lists).expect("valid lists"),
+        axis: Axis::Lambda,
+    }
+}
+
+/// Deterministic rows for every job of `source`, as if the sweep had run:
+/// the state and `W` cycle through a fixed pattern, one run failed.
+pub fn fake_rows(source: &shakedown::tui::sweep::SweepSource) -> Vec<shakedown::sweep::Row> {
+    use shakedown::steady::{Approach, SteadyState};
+    use shakedown::stepper::{StepError, Summary};
+    use shakedown::sweep::{Row, RunError};
+    let jobs = source.spec.jobs();
+    let n = jobs.len();
+    jobs.into_iter()
+        .map(|job| {
+            let state = SteadyState::ALL[job.index % 5];
+            let outcome = if job.index + 1 == n {
+                Err(RunError::Step(StepError::NotSettled {
+                    load: shakedown::params::LoadPoint::new(1.0, 2.0),
+                    phase: "cycle 2".into(),
+                    bisections: 8,
+                }))
+            } else {
+                Ok(Summary {
+                    state,
+                    approach: Approach::Settled,
+                    dissipation: if state == SteadyState::Shakedown {
+                        0.0
+                    } else {
+                        1e-3 * job.load_factor * (1 + job.initial) as f64
+                    },
+                    cycles: 3 + job.index,
+                    rotation_per_cycle: 0.0,
+                    terminal_load: None,
+                    terminal_time: None,
+                    terminal_theta: None,
+                })
+            };
+            Row {
+                job,
+                initial: source.spec.initials[job.initial].name(),
+                outcome,
+            }
+        })
+        .collect()
+}

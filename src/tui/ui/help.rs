@@ -6,28 +6,30 @@ use ratatui::widgets::{Clear, Row, Table};
 use ratatui::Frame;
 
 use super::Theme;
-use crate::tui::keys::BINDINGS;
+use crate::tui::keys::{bindings_for, Binding, View};
 
-pub fn render(frame: &mut Frame, area: Rect, theme: &Theme) {
-    let key_width = BINDINGS
+/// The keys of `view` only: the arrows mean different things per view.
+pub fn render(frame: &mut Frame, area: Rect, theme: &Theme, view: View) {
+    let bindings: Vec<&Binding> = bindings_for(view).collect();
+    let key_width = bindings
         .iter()
         .map(|b| b.label.chars().count())
         .max()
         .unwrap_or(0) as u16;
-    let help_width = BINDINGS
+    let help_width = bindings
         .iter()
         .map(|b| b.help.chars().count())
         .max()
         .unwrap_or(0) as u16;
     let width = (key_width + help_width + 7).min(area.width);
-    let height = (BINDINGS.len() as u16 + 2).min(area.height);
+    let height = (bindings.len() as u16 + 2).min(area.height);
     let rect = Rect::new(
         area.x + (area.width - width) / 2,
         area.y + (area.height - height) / 2,
         width,
         height,
     );
-    let rows = BINDINGS.iter().map(|b| {
+    let rows = bindings.iter().map(|b| {
         Row::new(vec![
             Line::from(Span::styled(b.label, theme.value())).right_aligned(),
             Line::from(Span::styled(b.help, theme.label())),
@@ -37,7 +39,10 @@ pub fn render(frame: &mut Frame, area: Rect, theme: &Theme) {
         .column_spacing(2)
         .block(
             theme
-                .panel(" Keys ")
+                .panel(match view {
+                    View::Stepping => " Keys: stepping view ",
+                    View::Sweep => " Keys: sweep view ",
+                })
                 .title_bottom(Line::from(Span::styled(" ? or Esc closes ", theme.label()))),
         );
     frame.render_widget(Clear, rect);

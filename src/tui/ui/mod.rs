@@ -7,6 +7,7 @@ mod load_plane;
 mod slip;
 mod slip_map;
 mod status;
+mod sweep_view;
 mod tractions;
 
 use ratatui::layout::{Alignment, Constraint, Layout, Rect};
@@ -15,7 +16,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, BorderType, Paragraph, Wrap};
 use ratatui::Frame;
 
-use super::app::App;
+use super::app::{App, View};
 
 /// The smallest terminal the layout is made for.
 pub const MIN_WIDTH: u16 = 80;
@@ -29,6 +30,13 @@ pub fn draw(frame: &mut Frame, app: &App) {
         too_small(frame, area, &theme);
         return;
     }
+    if app.view() == View::Sweep {
+        sweep_view::render(frame, area, app, &theme);
+        if app.help_visible() {
+            help::render(frame, area, &theme, View::Sweep);
+        }
+        return;
+    }
     let areas = Areas::new(area);
     load_plane::render(frame, areas.load_plane, app, &theme);
     slip_map::render(frame, areas.slip_map, app, &theme);
@@ -37,7 +45,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
     dissipation::render(frame, areas.dissipation, app, &theme);
     status::render(frame, areas.status, app, &theme);
     if app.help_visible() {
-        help::render(frame, area, &theme);
+        help::render(frame, area, &theme, View::Stepping);
     }
 }
 

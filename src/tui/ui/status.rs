@@ -125,8 +125,13 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let line3 = Line::from(spans);
 
     // The help hint is pinned to the right of the first line.
+    let first_width = line1.width();
     frame.render_widget(Paragraph::new(vec![line1, line2, line3]), area);
-    let hint = " ? help  q quit ";
+    // The view key is named when it fits beside the case, so a user finds
+    // the sweep view without opening the help; the help lists it anyway.
+    let long = " v sweep  ? help  q quit ";
+    let room = area.width as usize >= first_width + long.chars().count();
+    let hint = if room { long } else { " ? help  q quit " };
     let w = hint.chars().count() as u16;
     if area.width > w {
         let rect = Rect::new(area.x + area.width - w, area.y, w, 1);

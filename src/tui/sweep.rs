@@ -1,0 +1,324 @@
+//! The sweep view's state: a preset's sweep running on background threads,
+//! its rows as they arrive, `lambda_2`, and the cursor. No terminal I/O
+//! here, and no physics: the runs are [`SweepSpec::run`]'s and the limit is
+//! [`shakedown_limit`]'s.
+//!
+//! A full preset sweep takes tens of seconds, so it runs off the UI thread
+//! and hands each finished run over a channel; the UI drains the channel
+//! once per frame ([`Sweep::poll`]), so it never waits on a run.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, Receiver, TryRecvError};
+use std::sync::Arc;
+
+use crate::case::Case;
+use crate::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
+use crate::params::ParamError;
+use crate::path::Initial;
+use crate::preset::{Axis, Preset};
+use crate::sweep::{Job, Row, SweepSpec};
+
+/// What the sweep view runs: a sweep, its name and its horizontal axis.
+#[derive(Debug, Clone)]
+pub struct SweepSource {
+    /// Shown in the title: the preset's name.
+    pub name: String,
+    pub spec: SweepSpec,
+    pub axis: Axis,
+}
+
+impl SweepSource {
+    /// The preset's lists over the model of `case`. The model comes from
+    /// the explorer's case rather than the preset so that a run opened from
+    /// the map is the very run that produced the marker, flags included.
+    pub fn from_preset(preset: &Preset, case: &Case) -> Result<Self, ParamError> {
+        Ok(Self {
+            name: preset.name.clone(),
+            spec: SweepSpec::over(case, &preset.sweep)?,
+            axis: preset.figure.as_ref().map_or(Axis::Lambda, |f| f.axis),
+        })
+    }
+}
+
+/// `lambda_2` for the map, when it has one.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LimitState {
+    /// Not a single vertical line: a `phi` axis, or several phases.
+    NotShown,
+    Computing,
+    Known(Limit),
+    Failed(String),
+}
+
+/// What the background threads send.
+enum Message {
+    Row(Box<Row>),
+    Limit(Result<Limit, String>),
+    Finished,
+}
+
+/// The background threads of one sweep. Dropping it cancels the runs not
+/// yet started (the ones in progress finish, and their sends are ignored
+/// because the receiver is gone).
+struct Worker {
+    cancel: Arc<AtomicBool>,
+    rx: Receiver<Message>,
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+}
+
+/// The sweep view's state.
+pub struct Sweep {
+    source: SweepSource,
+    jobs: Vec<Job>,
+    /// By job index; `None` until the run arrives.
+    rows: Vec<Option<Row>>,
+    done: usize,
+    /// The distinct values of the horizontal axis, increasing.
+    xs: Vec<f64>,
+    /// Per entry of `xs`, the jobs at that value in job order.
+    columns: Vec<Vec<usize>>,
+    /// (index into `xs`, index into that column).
+    cursor: (usize, usize),
+    limit: LimitState,
+    worker: Option<Worker>,
+    started: bool,
+    /// The runs' thread is done (the limit's may not be).
+    runs_finished: bool,
+}
+
+impl Sweep {
+    pub fn new(source: SweepSource) -> Self {
+        let jobs = source.spec.jobs();
+        let x_of = |j: &Job| match source.axis {
+            Axis::Lambda => j.load_factor,
+            Axis::Phi => j.phase,
+        };
+        let mut xs: Vec<f64> = jobs.iter().map(x_of).collect();
+        xs.sort_by(f64::total_cmp);
+        xs.dedup_by(|a, b| a.to_bits() == b.to_bits());
+        let mut columns = vec![Vec::new(); xs.len()];
+        for job in &jobs {
+            let x = x_of(job);
+            if let Ok(i) = xs.binary_search_by(|v| v.total_cmp(&x)) {
+                columns[i].push(job.index);
+            }
+        }
+        let limit = match Self::limit_phase(&source) {
+            Some(_) => LimitState::Computing,
+            None => LimitState::NotShown,
+        };
+        Self {
+            rows: vec![None; jobs.len()],
+            jobs,
+            done: 0,
+            xs,
+            columns,
+            cursor: (0, 0),
+            limit,
+            worker: None,
+            started: false,
+            runs_finished: false,
+            source,
+        }
+    }
+
+    /// The phase `lambda_2` is drawn for: only a `lambda` axis over one
+    /// phase has a single vertical line.
+    fn limit_phase(source: &SweepSource) -> Option<f64> {
+        match (source.axis, source.spec.phases.as_slice()) {
+            (Axis::Lambda, [phase]) => Some(*phase),
+            _ => None,
+        }
+    }
+
+    /// Start the sweep (again): any sweep in progress is cancelled, and the
+    /// map empties. The runs and `lambda_2` go on their own threads so the
+    /// limit (up to a second) shows while the runs are still coming in.
+    pub fn start(&mut self) {
+        self.worker = None;
+        self.rows.iter_mut().for_each(|r| *r = None);
+        self.done = 0;
+        self.started = true;
+        self.runs_finished = false;
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = mpsc::channel();
+        if let Some(phase) = Self::limit_phase(&self.source) {
+            if !matches!(self.limit, LimitState::Known(_)) {
+                self.limit = LimitState::Computing;
+                let spec = self.source.spec.clone();
+                let tx = tx.clone();
+                std::thread::spawn(move || {
+                    let limit = shakedown_limit(
+                        &spec.material,
+                        spec.center,
+                        spec.slope,
+                        phase,
+                        &spec.disc,
+                        DEFAULT_SAMPLES,
+                    )
+                    .map_err(|e| e.to_string());
+                    let _ = tx.send(Message::Limit(limit));
+                });
+            }
+        }
+        let spec = self.source.spec.clone();
+        let jobs = self.jobs.clone();
+        let flag = Arc::clone(&cancel);
+        std::thread::spawn(move || {
+            spec.run(
+                &jobs,
+                &|row| {
+                    let _ = tx.send(Message::Row(Box::new(row.clone())));
+                },
+                &flag,
+            );
+            let _ = tx.send(Message::Finished);
+        });
+        self.worker = Some(Worker { cancel, rx });
+    }
+
+    /// Stop the runs not yet started (quitting, or rerunning).
+    pub fn cancel(&mut self) {
+        self.worker = None;
+    }
+
+    /// Take what the background threads have sent; true if anything came.
+    pub fn poll(&mut self) -> bool {
+        let mut changed = false;
+        loop {
+            let Some(worker) = &self.worker else {
+                return changed;
+            };
+            match worker.rx.try_recv() {
+                Ok(Message::Row(row)) => {
+                    self.insert(*row);
+                    changed = true;
+                }
+                Ok(Message::Limit(limit)) => {
+                    self.set_limit(limit);
+                    changed = true;
+                }
+                Ok(Message::Finished) => {
+                    self.runs_finished = true;
+                    changed = true;
+                }
+                // Every sender is gone: the runs and the limit are done
+                // (or a thread died, which the count of runs will show).
+                Err(TryRecvError::Disconnected) => {
+                    self.runs_finished = true;
+                    self.worker = None;
+                    if matches!(self.limit, LimitState::Computing) {
+                        self.limit = LimitState::Failed("the limit thread stopped".into());
+                    }
+                    return true;
+                }
+                Err(TryRecvError::Empty) => return changed,
+            }
+        }
+    }
+
+    /// A finished run: what the channel delivers, and what tests inject.
+    pub fn insert(&mut self, row: Row) {
+        if let Some(slot) = self.rows.get_mut(row.job.index) {
+            if slot.is_none() {
+                self.done += 1;
+            }
+            *slot = Some(row);
+        }
+    }
+
+    /// `lambda_2`, or why it is missing: from the channel, or from tests.
+    pub fn set_limit(&mut self, limit: Result<Limit, String>) {
+        if matches!(self.limit, LimitState::NotShown) {
+            return;
+        }
+        self.limit = match limit {
+            Ok(l) => LimitState::Known(l),
+            Err(e) => LimitState::Failed(e),
+        };
+    }
+
+    // ----- what the panel reads -------------------------------------------
+
+    pub fn source(&self) -> &SweepSource {
+        &self.source
+    }
+    pub fn axis(&self) -> Axis {
+        self.source.axis
+    }
+    pub fn total(&self) -> usize {
+        self.jobs.len()
+    }
+    pub fn done(&self) -> usize {
+        self.done
+    }
+    pub fn started(&self) -> bool {
+        self.started
+    }
+    /// Runs are still being computed in the background.
+    pub fn is_running(&self) -> bool {
+        self.worker.is_some() && !self.runs_finished
+    }
+    pub fn limit(&self) -> &LimitState {
+        &self.limit
+    }
+    pub fn xs(&self) -> &[f64] {
+        &self.xs
+    }
+    pub fn rows(&self) -> impl Iterator<Item = &Row> {
+        self.rows.iter().flatten()
+    }
+    pub fn jobs(&self) -> &[Job] {
+        &self.jobs
+    }
+    /// The horizontal coordinate of a job.
+    pub fn x_of(&self, job: &Job) -> f64 {
+        match self.source.axis {
+            Axis::Lambda => job.load_factor,
+            Axis::Phi => job.phase,
+        }
+    }
+    pub fn cursor(&self) -> (usize, usize) {
+        self.cursor
+    }
+    /// The selected job and its row, if it has arrived.
+    pub fn selected(&self) -> Option<(&Job, Option<&Row>)> {
+        let index = *self.columns.get(self.cursor.0)?.get(self.cursor.1)?;
+        Some((&self.jobs[index], self.rows[index].as_ref()))
+    }
+    /// The initial path of a job, by its index into the spec's list.
+    pub fn initial(&self, job: &Job) -> &Initial {
+        &self.source.spec.initials[job.initial]
+    }
+
+    // ----- the cursor -----------------------------------------------------
+
+    /// Along the horizontal axis, staying on the same transient.
+    pub fn move_x(&mut self, delta: isize) {
+        if self.xs.is_empty() {
+            return;
+        }
+        let last = self.xs.len() - 1;
+        self.cursor.0 = self.cursor.0.saturating_add_signed(delta).min(last);
+        let len = self.columns[self.cursor.0].len();
+        self.cursor.1 = self.cursor.1.min(len.saturating_sub(1));
+    }
+
+    /// Between the runs at the same horizontal value, wrapping round so
+    /// the 26 transients of a column are a few presses apart either way.
+    pub fn move_run(&mut self, delta: isize) {
+        let Some(column) = self.columns.get(self.cursor.0) else {
+            return;
+        };
+        let len = column.len() as isize;
+        if len == 0 {
+            return;
+        }
+        self.cursor.1 = (self.cursor.1 as isize + delta).rem_euclid(len) as usize;
+    }
+}
