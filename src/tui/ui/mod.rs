@@ -228,6 +228,15 @@ pub fn tick(v: f64) -> String {
 }
 
 /// Labels of the `theta` axis from `-pi` to `pi`.
+/// The `theta` axis from -pi to pi shared by the panels plotted against theta.
+pub fn theta_axis<'a>(theme: &Theme) -> ratatui::widgets::Axis<'a> {
+    ratatui::widgets::Axis::default()
+        .title(Span::styled("θ", theme.label()))
+        .bounds([-std::f64::consts::PI, std::f64::consts::PI])
+        .labels(theta_labels())
+        .style(theme.dim())
+}
+
 pub fn theta_labels<'a>() -> Vec<Line<'a>> {
     vec![Line::from("-π"), Line::from("0"), Line::from("π")]
 }

@@ -11,7 +11,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Axis, Chart, Dataset, GraphType};
 use ratatui::Frame;
 
-use super::{nice_ceiling, theta_labels, theta_order, tick, Theme};
+use super::{nice_ceiling, theta_axis, theta_order, tick, Theme};
 use crate::tui::app::{format_sci, node_theta, App};
 
 pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
@@ -45,13 +45,7 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let chart = Chart::new(datasets)
         .block(block)
         .legend_position(None)
-        .x_axis(
-            Axis::default()
-                .title(Span::styled("θ", theme.label()))
-                .bounds([-std::f64::consts::PI, std::f64::consts::PI])
-                .labels(theta_labels())
-                .style(theme.dim()),
-        )
+        .x_axis(theta_axis(theme))
         .y_axis(
             Axis::default()
                 .title(Span::styled("g-ḡ", theme.label()))

@@ -10,7 +10,7 @@ use ratatui::widgets::{Axis, Chart, Dataset, GraphType};
 use ratatui::Frame;
 
 use super::slip_map::{BACKWARD_GLYPH, FORWARD_GLYPH, STUCK_GLYPH};
-use super::{nice_ceiling, theta_labels, theta_order, tick, Theme};
+use super::{nice_ceiling, theta_axis, theta_order, tick, Theme};
 use crate::contact::SlipDirection;
 use crate::tui::app::{node_theta, plural, App};
 
@@ -122,13 +122,7 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let chart = Chart::new(datasets)
         .block(block)
         .legend_position(None)
-        .x_axis(
-            Axis::default()
-                .title(Span::styled("θ", theme.label()))
-                .bounds([-std::f64::consts::PI, std::f64::consts::PI])
-                .labels(theta_labels())
-                .style(theme.dim()),
-        )
+        .x_axis(theta_axis(theme))
         .y_axis(
             Axis::default()
                 .title(Span::styled("q", theme.label()))
