@@ -76,6 +76,21 @@ fn s<E: std::fmt::Display>(e: E) -> String {
     e.to_string()
 }
 
+/// The legend box every plot uses, at `position`.
+fn legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+) -> Result<(), String> {
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(font(14.0))
+        .draw()
+        .map_err(s)
+}
+
 /// The paper's normalised dissipation `W~` of eq. (16), spelled out
 /// because the bitmap text renderer does not place combining accents.
 const W_LABEL: &str = "Wμ / ((κ+1) p₀² a²)";
@@ -345,15 +360,7 @@ impl Drawing for DissipationPlot<'_> {
                 .label(mark.label())
                 .legend(move |c| glyph!(mark, c));
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(font(14.0))
-            .draw()
-            .map_err(s)?;
-        Ok(())
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)
     }
 }
 
@@ -472,15 +479,7 @@ impl Drawing for MemoryPlot<'_> {
                 )))
                 .map_err(s)?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(font(14.0))
-            .draw()
-            .map_err(s)?;
-        Ok(())
+        legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
 }
 
