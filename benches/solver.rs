@@ -7,8 +7,8 @@ use std::f64::consts::PI;
 use std::sync::atomic::AtomicBool;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
-use shakedown::stepper::operators;
-use shakedown::sweep::SweepSpec;
+use shakedown::analysis::sweep::SweepSpec;
+use shakedown::stepping::operators;
 use shakedown::{
     Contact, Cycle, Discretisation, Initial, LoadPoint, Material, StepOptions, Stepper,
 };
@@ -78,16 +78,19 @@ fn run_to_steady(cr: &mut Criterion) {
 }
 
 fn fig3(cr: &mut Criterion) {
-    let spec = SweepSpec {
-        material: Material::paper(),
-        disc: Discretisation::default(),
-        options: StepOptions::default(),
-        center: LoadPoint::new(PI, 0.75 * PI),
-        slope: 0.625,
-        load_factors: (0..=90).map(|i| 3.0 + 0.05 * i as f64).collect(),
-        phases: vec![0.0],
-        initials: Initial::paper_set(),
-    };
+    let spec = SweepSpec::new(
+        Material::paper(),
+        Discretisation::default(),
+        StepOptions::default(),
+        LoadPoint::new(PI, 0.75 * PI),
+        0.625,
+        shakedown::analysis::sweep::SweepLists {
+            load_factors: (0..=90).map(|i| 3.0 + 0.05 * i as f64).collect(),
+            phases: vec![0.0],
+            initials: Initial::paper_set(),
+        },
+    )
+    .unwrap();
     let jobs = spec.jobs();
     let mut group = cr.benchmark_group("sweep");
     group.sample_size(10);

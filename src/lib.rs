@@ -1,29 +1,33 @@
 //! Frictional shakedown of a shrink-fitted disc: the physics of Cwiekala,
-//! Barber & Hills (see `shared/model.md`), a stepper that advances it one
-//! increment at a time, batch drivers and a terminal explorer.
+//! Barber & Hills (see `docs/model.md`), a stepper that advances it one
+//! increment at a time, analysis of steady states and sweeps, batch
+//! input/output, and (behind features) figures and a terminal explorer.
 //!
-//! Layout: [`params`] (inputs), [`contact`] (operators and the incremental
-//! solver), [`path`] (transients and the cycle), [`stepper`] (one increment
-//! at a time, with events), [`steady`] (convergence and classification),
-//! [`sweep`] (batch runs), [`limit`] (`lambda_2` by linear programming),
-//! [`preset`] (the paper's cases as TOML) and [`figure`] (their plots).
+//! Layers, from the bottom up; each depends only on those above it in
+//! this list:
+//!
+//! * [`model`]: material, load plane, cycle, discretisation, load paths;
+//! * [`contact`]: residual-traction operators and the incremental
+//!   frictional solver;
+//! * [`stepping`]: the [`Stepper`], its events, slip zones and the one
+//!   driver [`stepping::drive`];
+//! * [`analysis`]: steady state and classification, cases, sweeps,
+//!   `lambda_2`, the memory measures `R` and `r`, slip maps;
+//! * [`io`]: parsing, presets, the batch machinery;
+//! * `figure` (feature `plot`) and `tui` (feature `tui`) on top.
 
-pub mod batch;
-pub mod case;
+pub mod analysis;
 pub mod contact;
+#[cfg(feature = "plot")]
 pub mod figure;
-pub mod limit;
-pub mod params;
-pub mod parse;
-pub mod path;
-pub mod preset;
-pub mod steady;
-pub mod stepper;
-pub mod sweep;
+pub mod io;
+pub mod model;
+pub mod stepping;
+#[cfg(feature = "tui")]
 pub mod tui;
 
+pub use analysis::steady::{Approach, Convergence, CycleRecord, SteadyState};
 pub use contact::{Contact, ContactError, Operators, SlipDirection};
-pub use params::{Cycle, Discretisation, LoadPoint, Loads, Material, ParamError, Plane};
-pub use path::{Initial, PathError};
-pub use steady::{Approach, Convergence, CycleRecord, SteadyState};
-pub use stepper::{Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary};
+pub use model::PathError;
+pub use model::{Cycle, Discretisation, Initial, LoadPoint, Loads, Material, ParamError, Plane};
+pub use stepping::{Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary};

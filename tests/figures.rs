@@ -8,9 +8,9 @@ use std::f64::consts::PI;
 use std::path::Path;
 
 use common::{check_svg, png_size, read_csv, scratch, shakedown, stderr, stdout};
-use shakedown::case::{Case, CaseParams};
-use shakedown::figure::slip_map;
-use shakedown::stepper::slip_zones;
+use shakedown::analysis::case::{Case, CaseParams};
+use shakedown::analysis::slip_map::slip_map;
+use shakedown::stepping::slip_zones;
 use shakedown::SlipDirection;
 
 const SMALL: [&str; 4] = ["--nodes", "64", "--steps", "200"];
@@ -37,7 +37,7 @@ fn check_plot_files(dir: &Path, name: &str) {
 /// Rows of a sweep CSV grouped by lambda: (initial, state, W) each.
 fn by_lambda(path: &Path) -> BTreeMap<String, Vec<(String, String, f64)>> {
     let (header, rows) = read_csv(path);
-    assert_eq!(header.join(","), shakedown::sweep::CSV_HEADER);
+    assert_eq!(header.join(","), shakedown::analysis::sweep::CSV_HEADER);
     let mut out: BTreeMap<String, Vec<_>> = BTreeMap::new();
     for r in rows {
         out.entry(r[0].clone()).or_default().push((
@@ -126,7 +126,7 @@ fn fig4_memory_vanishes_in_ratchetting() {
     let (header, rows) = read_csv(&dir.join("fig4.csv"));
     assert_eq!(
         header.join(","),
-        shakedown::figure::MEMORY_HEADER,
+        shakedown::analysis::memory::MEMORY_HEADER,
         "{header:?}"
     );
     assert_eq!(rows.len(), 2);
@@ -179,7 +179,7 @@ fn fig5_slip_map_files() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
-fn map_of(lambda: f64, phase: f64) -> shakedown::figure::SlipMap {
+fn map_of(lambda: f64, phase: f64) -> shakedown::analysis::slip_map::SlipMap {
     let params = CaseParams {
         load_factor: lambda,
         phase,
@@ -201,7 +201,7 @@ fn fig5_point_b_slips_back_and_forth() {
     let map = map_of(7.0, 0.0);
     assert_eq!(
         map.summary.state,
-        shakedown::steady::SteadyState::RatchettingNonMonotonic
+        shakedown::analysis::steady::SteadyState::RatchettingNonMonotonic
     );
     let dirs: Vec<SlipDirection> = map.rows.iter().flat_map(|r| r.directions.clone()).collect();
     assert!(dirs.contains(&SlipDirection::Forward) && dirs.contains(&SlipDirection::Backward));
@@ -212,13 +212,13 @@ fn fig7_point_c_one_zone_splits_travels_and_merges() {
     let map = map_of(5.1, 0.5 * PI);
     assert_eq!(
         map.summary.state,
-        shakedown::steady::SteadyState::RatchettingMonotonic
+        shakedown::analysis::steady::SteadyState::RatchettingMonotonic
     );
     let n = map.nodes;
-    let zones: Vec<Vec<(usize, usize, SlipDirection)>> =
+    let zones: Vec<Vec<shakedown::stepping::SlipZone>> =
         map.rows.iter().map(|r| slip_zones(&r.directions)).collect();
     // Monotonic: every slip of the cycle goes one way.
-    let ways: std::collections::HashSet<_> = zones.iter().flatten().map(|z| z.2).collect();
+    let ways: std::collections::HashSet<_> = zones.iter().flatten().map(|z| z.direction).collect();
     assert_eq!(ways.len(), 1, "{ways:?}");
     let k = zones.len();
     let mut formed = None;
@@ -227,13 +227,13 @@ fn fig7_point_c_one_zone_splits_travels_and_merges() {
     for i in 0..k {
         let (before, now) = (&zones[(i + k - 1) % k], &zones[i]);
         if before.is_empty() && now.len() == 1 {
-            formed = Some((now[0].0, now[0].1));
+            formed = Some((now[0].first, now[0].len));
         }
         if before.len() == 1 && now.len() == 2 {
             split = true;
         }
         if before.len() == 2 && now.len() == 1 {
-            merged = Some((now[0].0, now[0].1));
+            merged = Some((now[0].first, now[0].len));
         }
     }
     let formed = formed.expect("a slip zone forms after a slip-free interval");

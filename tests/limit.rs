@@ -7,13 +7,13 @@ mod common;
 use std::f64::consts::PI;
 
 use common::{read_csv, scratch, shakedown, stderr, stdout};
-use shakedown::case::{Case, CaseParams};
-use shakedown::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
-use shakedown::params::{Discretisation, LoadPoint, Material};
-use shakedown::path::Initial;
-use shakedown::steady::SteadyState;
-use shakedown::stepper::{StepOptions, Summary};
-use shakedown::sweep::SweepSpec;
+use shakedown::analysis::case::{Case, CaseParams};
+use shakedown::analysis::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
+use shakedown::analysis::steady::SteadyState;
+use shakedown::analysis::sweep::SweepSpec;
+use shakedown::model::path::Initial;
+use shakedown::model::{Discretisation, LoadPoint, Material};
+use shakedown::stepping::{StepOptions, Summary};
 
 const NODES: usize = 64;
 const STEPS: usize = 200;
@@ -81,16 +81,19 @@ fn lambda_2_lies_right_of_every_transient_shakedown() {
     let mut load_factors: Vec<f64> = (0..=6).map(|k| 4.0 + 0.25 * k as f64).collect();
     load_factors.push(l.load_factor + 0.02);
     let options = StepOptions::default();
-    let spec = SweepSpec {
-        material: Material::paper(),
-        disc: Discretisation::new(NODES, STEPS).unwrap(),
+    let spec = SweepSpec::new(
+        Material::paper(),
+        Discretisation::new(NODES, STEPS).unwrap(),
         options,
-        center: LoadPoint::new(PI, 0.75 * PI),
-        slope: 0.625,
-        load_factors,
-        phases: vec![0.0],
-        initials: Initial::paper_set(),
-    };
+        LoadPoint::new(PI, 0.75 * PI),
+        0.625,
+        shakedown::analysis::sweep::SweepLists {
+            load_factors,
+            phases: vec![0.0],
+            initials: Initial::paper_set(),
+        },
+    )
+    .unwrap();
     let rows = spec.run(&spec.jobs(), &|_| {}, &Default::default());
     let shaken: Vec<f64> = rows
         .iter()
@@ -118,16 +121,19 @@ fn a_phase_sweep_resolves_the_optimal_slip_per_phase() {
     let (l0, l1) = (limit(0.0), limit(0.5 * PI));
     let lambda = 0.5 * (l0.load_factor + l1.lower_bound);
     assert!(l0.load_factor < lambda - 0.02 && lambda + 0.02 < l1.lower_bound);
-    let spec = SweepSpec {
-        material: Material::paper(),
-        disc: Discretisation::new(NODES, STEPS).unwrap(),
-        options: StepOptions::default(),
-        center: LoadPoint::new(PI, 0.75 * PI),
-        slope: 0.625,
-        load_factors: vec![lambda],
-        phases: vec![0.0, 0.5 * PI],
-        initials: vec![Initial::Optimal],
-    };
+    let spec = SweepSpec::new(
+        Material::paper(),
+        Discretisation::new(NODES, STEPS).unwrap(),
+        StepOptions::default(),
+        LoadPoint::new(PI, 0.75 * PI),
+        0.625,
+        shakedown::analysis::sweep::SweepLists {
+            load_factors: vec![lambda],
+            phases: vec![0.0, 0.5 * PI],
+            initials: vec![Initial::Optimal],
+        },
+    )
+    .unwrap();
     let rows = spec.run(&spec.jobs(), &|_| {}, &Default::default());
     assert_eq!(rows.len(), 2);
     assert!(rows.iter().all(|r| r.initial == "optimal"));
@@ -203,8 +209,8 @@ fn limit_command_prints_lambda_2_and_writes_the_slip() {
 
 #[test]
 fn a_stepper_given_the_unresolved_optimal_path_solves_the_limit_itself() {
-    use shakedown::params::Cycle;
-    use shakedown::stepper::Stepper;
+    use shakedown::model::Cycle;
+    use shakedown::stepping::Stepper;
     let l = limit(0.0);
     let lambda = l.load_factor + 0.05;
     let mut direct = Stepper::new(

@@ -5,9 +5,9 @@
 
 use std::sync::Arc;
 
-use shakedown::batch::Interrupt;
-use shakedown::path::Initial;
-use shakedown::sweep::{RowState, SweepSpec};
+use shakedown::analysis::sweep::{RowState, SweepSpec};
+use shakedown::io::batch::Interrupt;
+use shakedown::model::path::Initial;
 use shakedown::{
     Contact, Cycle, Discretisation, LoadPoint, Material, Operators, Plane, StepError, StepOptions,
     Stepper,
@@ -78,16 +78,19 @@ fn bisection_resolves_the_same_increment() {
 fn a_sweep_records_the_failure_and_carries_on() {
     let (m, disc, path) = hard_case();
     let end = *path.last().unwrap();
-    let spec = SweepSpec {
-        material: m,
+    let spec = SweepSpec::new(
+        m,
         disc,
-        options: no_bisection(),
-        center: end,
-        slope: 0.625,
-        load_factors: vec![0.0, 0.5],
-        phases: vec![0.0],
-        initials: vec![Initial::custom(path).unwrap(), Initial::Direct],
-    };
+        no_bisection(),
+        end,
+        0.625,
+        shakedown::analysis::sweep::SweepLists {
+            load_factors: vec![0.0, 0.5],
+            phases: vec![0.0],
+            initials: vec![Initial::custom(path).unwrap(), Initial::Direct],
+        },
+    )
+    .unwrap();
     let jobs = spec.jobs();
     let mut rows = Vec::new();
     let progress = spec

@@ -6,9 +6,9 @@
 use std::f64::consts::PI;
 
 use proptest::prelude::*;
-use shakedown::batch::{merge, resume_point, Shard};
-use shakedown::parse::{parse_angle, parse_number, parse_point, parse_values, MAX_VALUES};
-use shakedown::path::Initial;
+use shakedown::io::batch::{merge, resume_point, Shard};
+use shakedown::io::parse::{parse_angle, parse_number, parse_point, parse_values, MAX_VALUES};
+use shakedown::model::path::Initial;
 
 /// Strings made of the pieces the parsers look for, so that random input
 /// gets past the first character often.

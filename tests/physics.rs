@@ -5,7 +5,7 @@
 use std::f64::consts::PI;
 use std::sync::atomic::AtomicBool;
 
-use shakedown::sweep::SweepSpec;
+use shakedown::analysis::sweep::SweepSpec;
 use shakedown::{
     Contact, Cycle, Discretisation, Initial, LoadPoint, Material, Operators, SteadyState,
     StepOptions, Stepper,
@@ -224,17 +224,20 @@ fn fig8_ratchetting_rotates_and_shakedown_does_not() {
     assert_eq!(s.rotation_per_cycle, 0.0);
 }
 
-fn fig3_sweep(load_factors: Vec<f64>) -> Vec<shakedown::sweep::Row> {
-    let spec = SweepSpec {
-        material: Material::paper(),
-        disc: Discretisation::default(),
-        options: StepOptions::default(),
-        center: LoadPoint::new(PI, 0.75 * PI),
-        slope: 0.625,
-        load_factors,
-        phases: vec![0.0],
-        initials: Initial::paper_set(),
-    };
+fn fig3_sweep(load_factors: Vec<f64>) -> Vec<shakedown::analysis::sweep::Row> {
+    let spec = SweepSpec::new(
+        Material::paper(),
+        Discretisation::default(),
+        StepOptions::default(),
+        LoadPoint::new(PI, 0.75 * PI),
+        0.625,
+        shakedown::analysis::sweep::SweepLists {
+            load_factors,
+            phases: vec![0.0],
+            initials: Initial::paper_set(),
+        },
+    )
+    .unwrap();
     spec.run(&spec.jobs(), &|_| {}, &AtomicBool::new(false))
 }
 
@@ -248,7 +251,7 @@ fn fig3_cyclic_slip_remembers_the_transient_and_ratchetting_forgets_it() {
     let rows = fig3_sweep(vec![5.2, 7.0]);
     let (cyclic, ratchet): (Vec<_>, Vec<_>) = rows.iter().partition(|r| r.job.load_factor == 5.2);
     assert_eq!(cyclic.len(), 25);
-    let w = |rows: &[&shakedown::sweep::Row]| -> Vec<f64> {
+    let w = |rows: &[&shakedown::analysis::sweep::Row]| -> Vec<f64> {
         rows.iter()
             .map(|r| r.outcome.as_ref().unwrap().dissipation)
             .collect()

@@ -4,7 +4,7 @@
 mod common;
 
 use common::{read_csv, scratch, shakedown, stderr, stdout};
-use shakedown::preset::{self, FigureKind, PresetError};
+use shakedown::io::preset::{self, FigureKind, PresetError};
 
 /// A few values and small discretisations keep every run quick.
 const SMALL: [&str; 4] = ["--nodes", "64", "--steps", "200"];
@@ -78,7 +78,7 @@ fn every_builtin_preset_runs_reduced() {
         let o = shakedown(&[&args[..], &SMALL].concat());
         assert!(o.status.success(), "{}: {}", p.name, stderr(&o));
         let (header, rows) = read_csv(&csv);
-        assert_eq!(header.join(","), shakedown::sweep::CSV_HEADER);
+        assert_eq!(header.join(","), shakedown::analysis::sweep::CSV_HEADER);
         let paths = if initials == "OA" { 1 } else { 2 };
         let expected = lambdas.split(',').count() * phases.split(',').count() * paths;
         assert_eq!(rows.len(), expected, "{}", p.name);
@@ -95,7 +95,7 @@ fn every_builtin_preset_runs_reduced() {
 fn builtin_presets_carry_the_papers_cases() {
     use std::f64::consts::PI;
     let get = |n: &str| preset::load(n).unwrap();
-    let paper = shakedown::case::CaseParams::default();
+    let paper = shakedown::analysis::case::CaseParams::default();
     for (name, _) in preset::BUILTIN {
         let p = get(name);
         // The paper's parameters unless a preset says otherwise.
@@ -122,7 +122,10 @@ fn builtin_presets_carry_the_papers_cases() {
     assert_eq!(fig8.sweep.phases, vec![0.5 * PI]);
     assert_eq!(fig8.sweep.initials.len(), 25);
     let fig9 = get("fig9");
-    assert_eq!(fig9.sweep.initials, vec![shakedown::path::Initial::Direct]);
+    assert_eq!(
+        fig9.sweep.initials,
+        vec![shakedown::model::path::Initial::Direct]
+    );
     assert!(fig9.sweep.load_factors.len() > 2);
 }
 

@@ -4,7 +4,7 @@
 use ratatui::backend::TestBackend;
 use ratatui::style::Color;
 use ratatui::Terminal;
-use shakedown::case::Case;
+use shakedown::analysis::case::Case;
 use shakedown::tui::app::{App, Config, View};
 
 mod common;
@@ -145,7 +145,7 @@ fn sweep_app(color: bool) -> App {
     for row in rows {
         sweep.insert(row);
     }
-    sweep.set_limit(Ok(shakedown::limit::Limit {
+    sweep.set_limit(Ok(shakedown::analysis::limit::Limit {
         load_factor: 5.2,
         lower_bound: 5.2,
         slip: vec![0.0; 32],

@@ -5,13 +5,13 @@
 //! How a batch command uses it (see `sweep.rs`):
 //!
 //! 1. Build the job list and each job's line key; slice it with
-//!    `--shard K/N` ([`shakedown::batch::Shard`]).
+//!    `--shard K/N` ([`shakedown::io::batch::Shard`]).
 //! 2. [`Output::open`] the `--out` file (or stdout). With `--resume` it keeps
 //!    the complete lines that match the job list's first keys, cuts off the
 //!    rest, and says how many jobs are done already.
 //! 3. [`ctrl_c`] gives the process-wide [`Interrupt`] that Ctrl-C raises.
 //! 4. Run the remaining jobs with
-//!    [`shakedown::batch::run_ordered`] (or `SweepSpec::run_ordered`),
+//!    [`shakedown::io::batch::run_ordered`] (or `SweepSpec::run_ordered`),
 //!    writing each line with [`Output::line`] as it is delivered.
 //! 5. [`Output::finish`]; if the interrupt was raised, tell the user how to
 //!    resume and exit with [`INTERRUPTED`].
@@ -23,7 +23,7 @@ use std::process::ExitCode;
 use std::sync::OnceLock;
 
 use anyhow::{anyhow, Result};
-use shakedown::batch::{resume_point, Interrupt};
+use shakedown::io::batch::{resume_point, Interrupt};
 
 use super::InputError;
 

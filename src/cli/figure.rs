@@ -7,13 +7,18 @@ use std::time::Instant;
 
 use anyhow::{anyhow, Result};
 use clap::Args;
-use shakedown::case::Case;
+use shakedown::analysis::case::Case;
+use shakedown::analysis::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
+use shakedown::analysis::memory::{
+    memory_csv, memory_points, memory_runs, ratchetting_onset, MemoryError,
+};
+use shakedown::analysis::slip_map::{slip_map, SlipMap, SlipMapError};
+use shakedown::analysis::sweep::Axis;
+use shakedown::analysis::sweep::{SweepSpec, CSV_HEADER};
 use shakedown::figure::draw::{write_svg_png, DissipationPlot, MemoryPlot, SlipMapPlot};
-use shakedown::figure::{memory_csv, memory_points, memory_runs, slip_map, FigureError, SlipMap};
-use shakedown::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
-use shakedown::parse::{parse_angle, parse_number, parse_values};
-use shakedown::preset::{Axis, FigureKind, FigureSpec, Preset};
-use shakedown::sweep::{SweepSpec, CSV_HEADER};
+use shakedown::figure::FigureError;
+use shakedown::io::parse::{parse_angle, parse_number, parse_values};
+use shakedown::io::preset::{FigureKind, FigureSpec, Preset};
 
 use super::batch::{ctrl_c, Output};
 use super::sweep::{job_key, progress, row_key, spec, warn_failures, ListArgs};
@@ -97,7 +102,7 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             warn_failures(&rows);
             written.push(file(".csv"));
             if let Some(l) = &limit {
-                write_limit(&file("_limit.csv"), l, spec.disc.nodes())?;
+                write_limit(&file("_limit.csv"), l, spec.disc().nodes())?;
                 written.push(file("_limit.csv"));
                 println!("lambda_2 = {:.6} (linear programme)", l.load_factor);
             }
@@ -117,17 +122,17 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             let limit = limit_of(&fig, &spec)?;
             let jobs = spec.jobs();
             let bar = progress(jobs.len());
-            let runs = memory_runs(&spec, &|| bar.inc(1)).map_err(input)?;
+            let runs = memory_runs(&spec, &|| bar.inc(1)).map_err(|e| input(e.into()))?;
             bar.finish_and_clear();
             let points = memory_points(&runs);
             write(&file(".csv"), &memory_csv(&points))?;
             written.push(file(".csv"));
             if let Some(l) = &limit {
-                write_limit(&file("_limit.csv"), l, spec.disc.nodes())?;
+                write_limit(&file("_limit.csv"), l, spec.disc().nodes())?;
                 written.push(file("_limit.csv"));
                 println!("lambda_2 = {:.6} (linear programme)", l.load_factor);
             }
-            if let Some(l3) = MemoryPlot::ratchetting_onset(&points) {
+            if let Some(l3) = ratchetting_onset(&points) {
                 println!("lambda_3 = {l3} (every transient ratchets from here on)");
             }
             let plot = MemoryPlot {
@@ -140,7 +145,7 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
         }
         FigureKind::SlipMap => {
             let case = single_case(&args, &preset)?;
-            let map = slip_map(&case).map_err(input)?;
+            let map = slip_map(&case).map_err(|e| input(e.into()))?;
             write(&file(".csv"), &map.csv())?;
             write(&file("_load.csv"), &map.load_csv())?;
             written.push(file(".csv"));
@@ -163,7 +168,8 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
 /// numerical failures are not.
 fn input(e: FigureError) -> anyhow::Error {
     match e {
-        FigureError::NoTransient(_) | FigureError::NoSteadyCycle { .. } => {
+        FigureError::Memory(MemoryError::NoTransient(_) | MemoryError::Param(_))
+        | FigureError::SlipMap(SlipMapError::NoSteadyCycle { .. }) => {
             anyhow!(InputError(e.to_string()))
         }
         other => anyhow!(other),
@@ -181,15 +187,15 @@ fn sweep_spec(args: &FigureArgs, preset: &Preset) -> Result<SweepSpec> {
 
 /// `lambda_2` when the figure marks it and the sweep has one phase.
 fn limit_of(fig: &FigureSpec, spec: &SweepSpec) -> Result<Option<Limit>> {
-    if !fig.limit || fig.axis != Axis::Lambda || spec.phases.len() != 1 {
+    if !fig.limit || fig.axis != Axis::Lambda || spec.phases().len() != 1 {
         return Ok(None);
     }
     let l = shakedown_limit(
-        &spec.material,
-        spec.center,
-        spec.slope,
-        spec.phases[0],
-        &spec.disc,
+        &spec.material(),
+        spec.center(),
+        spec.slope(),
+        spec.phases()[0],
+        &spec.disc(),
         DEFAULT_SAMPLES,
     )?;
     Ok(Some(l))

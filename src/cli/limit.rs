@@ -7,9 +7,9 @@ use std::process::ExitCode;
 use anyhow::{anyhow, Result};
 use clap::Args;
 use serde_json::json;
-use shakedown::case::{Case, CaseParams};
-use shakedown::limit::{shakedown_limit, Limit, LimitError, DEFAULT_SAMPLES};
-use shakedown::params::{LoadPoint, Material};
+use shakedown::analysis::case::{Case, CaseParams};
+use shakedown::analysis::limit::{shakedown_limit, Limit, LimitError, DEFAULT_SAMPLES};
+use shakedown::model::{LoadPoint, Material};
 
 use super::{CaseArgs, InputError};
 

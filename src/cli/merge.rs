@@ -48,7 +48,7 @@ pub fn merge(args: MergeArgs) -> Result<ExitCode> {
                 })
         })
         .collect::<Result<Vec<_>>>()?;
-    let merged = shakedown::batch::merge(HEADER, &keys, &inputs, row_key)
+    let merged = shakedown::io::batch::merge(HEADER, &keys, &inputs, row_key)
         .map_err(|e| anyhow!(InputError(format!("merge: {e}"))))?;
     match &args.out {
         None => {

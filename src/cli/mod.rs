@@ -13,10 +13,10 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, Result};
 use clap::{Args, Parser, Subcommand};
-use shakedown::case::{Case, CaseError, CaseParams};
-use shakedown::params::{ParamError, Plane};
-use shakedown::parse::{parse_angle, parse_number, parse_point};
-use shakedown::preset::Preset;
+use shakedown::analysis::case::{Case, CaseError, CaseParams};
+use shakedown::io::parse::{parse_angle, parse_number, parse_point};
+use shakedown::io::preset::Preset;
+use shakedown::model::{ParamError, Plane};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -102,7 +102,8 @@ pub struct CaseArgs {
 
 /// Load a preset named by a flag; a bad one is an input error.
 pub fn load_preset(flag: &str, name: &str) -> Result<Preset> {
-    shakedown::preset::load(name).map_err(|e| anyhow!(InputError(format!("{flag} {name}: {e}"))))
+    shakedown::io::preset::load(name)
+        .map_err(|e| anyhow!(InputError(format!("{flag} {name}: {e}"))))
 }
 
 /// What each flag accepts, as error messages say it. A test keeps these
@@ -363,11 +364,11 @@ fn clap_one_line(e: &clap::Error) -> String {
 fn is_input_error(e: &anyhow::Error) -> bool {
     e.chain().any(|c| {
         c.is::<InputError>()
-            || c.is::<shakedown::parse::ParseError>()
-            || c.is::<shakedown::case::CaseError>()
-            || c.is::<shakedown::params::ParamError>()
-            || c.is::<shakedown::path::PathError>()
-            || c.is::<shakedown::preset::PresetError>()
+            || c.is::<shakedown::io::parse::ParseError>()
+            || c.is::<shakedown::analysis::case::CaseError>()
+            || c.is::<shakedown::model::ParamError>()
+            || c.is::<shakedown::model::path::PathError>()
+            || c.is::<shakedown::io::preset::PresetError>()
     })
 }
 

@@ -5,14 +5,14 @@ use std::process::ExitCode;
 use anyhow::Result;
 
 pub fn presets() -> Result<ExitCode> {
-    let all = shakedown::preset::builtin();
-    let width = shakedown::preset::BUILTIN
+    let all = shakedown::io::preset::builtin();
+    let width = shakedown::io::preset::BUILTIN
         .iter()
         .map(|(n, _)| n.len())
         .max()
         .unwrap_or(0);
     let mut code = ExitCode::SUCCESS;
-    for ((name, _), preset) in shakedown::preset::BUILTIN.iter().zip(all) {
+    for ((name, _), preset) in shakedown::io::preset::BUILTIN.iter().zip(all) {
         match preset {
             Ok(p) => println!("{name:width$}  {}", p.description),
             Err(e) => {

@@ -5,9 +5,9 @@ use std::process::ExitCode;
 use anyhow::Result;
 use clap::Args;
 use serde_json::json;
-use shakedown::case::CaseParams;
-use shakedown::steady::Approach;
-use shakedown::stepper::Summary;
+use shakedown::analysis::case::CaseParams;
+use shakedown::analysis::steady::Approach;
+use shakedown::stepping::Summary;
 
 use super::batch::print_stdout;
 use super::CaseArgs;

@@ -7,18 +7,18 @@ use std::process::ExitCode;
 use anyhow::{anyhow, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use shakedown::batch::Shard;
-use shakedown::case::{Case, CaseError, CaseParams};
-use shakedown::parse::{parse_angle, parse_number, parse_values};
-use shakedown::path::Initial;
-use shakedown::preset::SweepLists;
-use shakedown::sweep::{Job, Row, SweepSpec};
+use shakedown::analysis::case::{Case, CaseError, CaseParams};
+use shakedown::analysis::sweep::SweepLists;
+use shakedown::analysis::sweep::{Job, Row, SweepSpec};
+use shakedown::io::batch::Shard;
+use shakedown::io::parse::{parse_angle, parse_number, parse_values};
+use shakedown::model::path::Initial;
 
 use super::batch::{ctrl_c, is_broken_pipe, report_interrupt, Output};
 use super::{bad_flag, case_error, load_preset, ModelArgs};
 
 /// The CSV header: `lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle`.
-pub use shakedown::sweep::CSV_HEADER as HEADER;
+pub use shakedown::analysis::sweep::CSV_HEADER as HEADER;
 
 #[derive(Debug, Args)]
 pub struct SweepArgs {
@@ -167,7 +167,7 @@ pub fn job_key(spec: &SweepSpec, job: &Job) -> String {
     key(
         job.load_factor,
         job.phase,
-        &spec.initials[job.initial].name(),
+        &spec.initials()[job.initial].name(),
     )
 }
 
@@ -255,8 +255,8 @@ pub fn sweep(args: SweepArgs) -> Result<ExitCode> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use shakedown::stepper::StepError;
-    use shakedown::sweep::{RowState, RunError};
+    use shakedown::analysis::sweep::{RowState, RunError};
+    use shakedown::stepping::StepError;
 
     #[test]
     fn every_line_starts_with_its_key() {
@@ -273,7 +273,7 @@ mod tests {
         for job in spec.jobs() {
             let row = Row {
                 job,
-                initial: spec.initials[job.initial].name(),
+                initial: spec.initials()[job.initial].name(),
                 outcome: Err(RunError::Step(StepError::NotSettled {
                     load: shakedown::LoadPoint::new(1.0, 2.0),
                     phase: "cycle 1, increment 1".into(),

@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 
 use super::operators::{FftScratch, Operators};
 use super::reduced::ReducedSolver;
-use crate::params::{LoadPoint, Material};
+use crate::model::{LoadPoint, Material};
 
 /// Direction of slip at one node during the last increment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize)]

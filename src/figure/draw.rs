@@ -14,11 +14,14 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 
-use super::{FigureError, MemoryPoint, SlipMap};
+use super::FigureError;
+use crate::analysis::memory::{ratchetting_onset, MemoryPoint};
+use crate::analysis::slip_map::SlipMap;
+use crate::analysis::steady::SteadyState;
+use crate::analysis::sweep::Axis;
+use crate::analysis::sweep::Row;
 use crate::contact::SlipDirection;
-use crate::preset::{Axis, RatchettingMarkers};
-use crate::steady::SteadyState;
-use crate::sweep::Row;
+use crate::io::preset::RatchettingMarkers;
 
 static FONT_BYTES: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 const FAMILY: &str = "sans-serif";
@@ -371,22 +374,6 @@ pub struct MemoryPlot<'a> {
     pub limit: Option<f64>,
 }
 
-impl MemoryPlot<'_> {
-    /// The smallest `lambda` from which every run ratchets: `lambda_3`.
-    pub fn ratchetting_onset(points: &[MemoryPoint]) -> Option<f64> {
-        let total = |p: &MemoryPoint| p.shakedown + p.cyclic_slip + p.ratchetting + p.other;
-        let mut onset = None;
-        for p in points.iter().rev() {
-            if p.ratchetting == total(p) && p.ratchetting > 0 {
-                onset = Some(p.load_factor);
-            } else if onset.is_some() {
-                break;
-            }
-        }
-        onset
-    }
-}
-
 impl Drawing for MemoryPlot<'_> {
     fn size(&self) -> (u32, u32) {
         (960, 640)
@@ -454,10 +441,7 @@ impl Drawing for MemoryPlot<'_> {
                     .map(|&p| TriangleMarker::new(p, 4, DARK_RED.filled())),
             )
             .map_err(s)?;
-        let marks = [
-            (self.limit, "λ₂"),
-            (MemoryPlot::ratchetting_onset(self.points), "λ₃"),
-        ];
+        let marks = [(self.limit, "λ₂"), (ratchetting_onset(self.points), "λ₃")];
         for (value, name) in marks {
             let Some(v) = value else { continue };
             if v <= x0 || v >= x1 {

@@ -14,11 +14,11 @@ use crossterm::event::KeyEvent;
 
 use super::keys::{self, Action};
 use super::sweep::{LimitState, Sweep, SweepSource};
-use crate::case::Case;
+use crate::analysis::case::Case;
 use crate::contact::{Operators, SlipDirection};
-use crate::params::Cycle;
-use crate::path::Initial;
-use crate::stepper::{self, slip_zones, Event, Phase, Status, Stepper};
+use crate::model::path::Initial;
+use crate::model::Cycle;
+use crate::stepping::{self, slip_zones, Event, Phase, SlipZone, Status, Stepper, ZoneChange};
 
 /// `lambda` change of the arrow keys, and with Shift.
 pub const LOAD_FACTOR_STEP: f64 = 0.05;
@@ -132,7 +132,7 @@ pub struct App {
     quit: bool,
     rows: VecDeque<SlipRow>,
     row_capacity: usize,
-    zones: Vec<(usize, usize, SlipDirection)>,
+    zones: Vec<SlipZone>,
     recent_stuck: Vec<usize>,
     last_stick: Option<StickInfo>,
     last_event: Option<String>,
@@ -147,7 +147,7 @@ impl App {
     /// The explorer on `case`, running, with the built-in
     /// [`DEFAULT_SWEEP_PRESET`] for the sweep view.
     pub fn new(case: Case, config: Config) -> Self {
-        let source = crate::preset::load(DEFAULT_SWEEP_PRESET)
+        let source = crate::io::preset::load(DEFAULT_SWEEP_PRESET)
             .map_err(|e| e.to_string())
             .and_then(|p| SweepSource::from_preset(&p, &case).map_err(|e| e.to_string()));
         Self::with_sweep(case, config, source)
@@ -157,7 +157,7 @@ impl App {
     /// is shown there instead of a map). The sweep starts the first time
     /// the sweep view opens, so a user who never looks at it pays nothing.
     pub fn with_sweep(case: Case, config: Config, source: Result<SweepSource, String>) -> Self {
-        let operators = stepper::operators(&case.disc);
+        let operators = stepping::operators(&case.disc);
         let stepper = Self::fresh_stepper(&case, &operators);
         let mut paths = Initial::paper_set();
         let path_index = match paths.iter().position(|p| *p == case.initial) {
@@ -269,7 +269,7 @@ impl App {
         self.failure.as_deref()
     }
     /// The contiguous slip zones now.
-    pub fn zones(&self) -> &[(usize, usize, SlipDirection)] {
+    pub fn zones(&self) -> &[SlipZone] {
         &self.zones
     }
 
@@ -430,7 +430,7 @@ impl App {
             // map at this phase is that slip; only when it is not known yet
             // (or is for another phase) is the programme solved here.
             Initial::Optimal => match sweep.limit() {
-                LimitState::Known(l) if sweep.source().spec.phases == [job.phase] => {
+                LimitState::Known(l) if sweep.source().spec.phases() == [job.phase] => {
                     Initial::Slip {
                         name: "optimal".into(),
                         slip: Arc::new(l.slip.clone()),
@@ -444,8 +444,12 @@ impl App {
                 )
                 .map_err(|e| e.to_string())
                 .and_then(|c| {
-                    crate::limit::optimal_initial(&self.case.material, &c, &self.case.disc)
-                        .map_err(|e| e.to_string())
+                    crate::analysis::limit::optimal_initial(
+                        &self.case.material,
+                        &c,
+                        &self.case.disc,
+                    )
+                    .map_err(|e| e.to_string())
                 }) {
                     Ok(i) => i,
                     Err(e) => {
@@ -725,19 +729,24 @@ impl App {
         // the status line shows as the last event.
         for event in &report.events {
             let text = match event {
-                Event::SlipSetChanged { slipping, zones } => {
-                    let new = slip_zones(self.stepper.contact().directions());
-                    let changes = zone_changes(&self.zones, &new, self.case.disc.nodes());
-                    self.zones = new;
+                Event::SlipSetChanged {
+                    slipping,
+                    zones,
+                    changes,
+                } => {
+                    self.zones = slip_zones(self.stepper.contact().directions());
                     if changes.is_empty() {
                         format!(
                             "slip set changed: {slipping} nodes slipping in {}",
                             plural(*zones, "zone")
                         )
                     } else {
-                        let text =
-                            format!("{} ({} now)", changes.join(", "), plural(*zones, "zone"));
-                        if changes.iter().any(|c| !c.contains("vanished")) {
+                        let names: Vec<String> = changes.iter().map(|c| c.to_string()).collect();
+                        let text = format!("{} ({} now)", names.join(", "), plural(*zones, "zone"));
+                        if changes
+                            .iter()
+                            .any(|c| !matches!(c, ZoneChange::Vanished(_)))
+                        {
                             pause.get_or_insert_with(|| text.clone());
                         }
                         text
@@ -835,58 +844,6 @@ impl App {
             cells,
         });
     }
-}
-
-/// What happened to the slip zones between two increments: zones of the
-/// same direction that share a node are the same zone, continued.
-pub fn zone_changes(
-    old: &[(usize, usize, SlipDirection)],
-    new: &[(usize, usize, SlipDirection)],
-    nodes: usize,
-) -> Vec<String> {
-    let owners = |zones: &[(usize, usize, SlipDirection)]| {
-        let mut owner = vec![None; nodes];
-        for (i, &(first, len, _)) in zones.iter().enumerate() {
-            for k in 0..len {
-                owner[(first + k) % nodes] = Some(i);
-            }
-        }
-        owner
-    };
-    let old_owner = owners(old);
-    let new_owner = owners(new);
-    let links = |zone: (usize, usize, SlipDirection),
-                 other: &[(usize, usize, SlipDirection)],
-                 owner: &[Option<usize>]| {
-        let mut found: Vec<usize> = (0..zone.1)
-            .filter_map(|k| owner[(zone.0 + k) % nodes])
-            .filter(|&i| other[i].2 == zone.2)
-            .collect();
-        found.sort_unstable();
-        found.dedup();
-        found.len()
-    };
-    let word = |d: SlipDirection| match d {
-        SlipDirection::Backward => "backward",
-        _ => "forward",
-    };
-    let mut out = Vec::new();
-    for &z in new {
-        match links(z, old, &old_owner) {
-            0 => out.push(format!("{} slip zone appeared", word(z.2))),
-            1 => {}
-            _ => out.push(format!("{} slip zones merged", word(z.2))),
-        }
-    }
-    for &z in old {
-        match links(z, new, &new_owner) {
-            0 => out.push(format!("{} slip zone vanished", word(z.2))),
-            1 => {}
-            _ => out.push(format!("{} slip zone split", word(z.2))),
-        }
-    }
-    out.dedup();
-    out
 }
 
 /// Nodes as runs of neighbours, by their angle: `theta/pi = -0.73..-0.70`.
@@ -1011,29 +968,5 @@ mod tests {
         assert_eq!(format_load_factor(5.5), "5.50");
         assert_eq!(format_load_factor(5.55), "5.55");
         assert_eq!(format_load_factor(5.123), "5.123");
-    }
-
-    #[test]
-    fn zone_changes_name_what_happened() {
-        use SlipDirection::*;
-        let one = [(2, 6, Forward)];
-        let two = [(2, 2, Forward), (6, 2, Forward)];
-        assert_eq!(
-            zone_changes(&one, &two, 16),
-            vec!["forward slip zone split"]
-        );
-        assert_eq!(
-            zone_changes(&two, &one, 16),
-            vec!["forward slip zones merged"]
-        );
-        assert_eq!(
-            zone_changes(&[], &one, 16),
-            vec!["forward slip zone appeared"]
-        );
-        assert_eq!(
-            zone_changes(&one, &[], 16),
-            vec!["forward slip zone vanished"]
-        );
-        assert!(zone_changes(&one, &[(3, 6, Forward)], 16).is_empty());
     }
 }

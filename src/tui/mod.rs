@@ -17,8 +17,8 @@ use std::io;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
-use crate::case::{Case, CaseParams};
-use crate::preset::Preset;
+use crate::analysis::case::{Case, CaseParams};
+use crate::io::preset::Preset;
 use app::{App, Config};
 use event::Event;
 

@@ -11,12 +11,13 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::Arc;
 
-use crate::case::Case;
-use crate::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
-use crate::params::ParamError;
-use crate::path::Initial;
-use crate::preset::{Axis, Preset};
-use crate::sweep::{Job, Row, SweepSpec};
+use crate::analysis::case::Case;
+use crate::analysis::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
+use crate::analysis::sweep::Axis;
+use crate::analysis::sweep::{Job, Row, SweepSpec};
+use crate::io::preset::Preset;
+use crate::model::path::Initial;
+use crate::model::ParamError;
 
 /// What the sweep view runs: a sweep, its name and its horizontal axis.
 #[derive(Debug, Clone)]
@@ -130,7 +131,7 @@ impl Sweep {
     /// The phase `lambda_2` is drawn for: only a `lambda` axis over one
     /// phase has a single vertical line.
     fn limit_phase(source: &SweepSource) -> Option<f64> {
-        match (source.axis, source.spec.phases.as_slice()) {
+        match (source.axis, source.spec.phases()) {
             (Axis::Lambda, [phase]) => Some(*phase),
             _ => None,
         }
@@ -154,11 +155,11 @@ impl Sweep {
                 let tx = tx.clone();
                 std::thread::spawn(move || {
                     let limit = shakedown_limit(
-                        &spec.material,
-                        spec.center,
-                        spec.slope,
+                        &spec.material(),
+                        spec.center(),
+                        spec.slope(),
                         phase,
-                        &spec.disc,
+                        &spec.disc(),
                         DEFAULT_SAMPLES,
                     )
                     .map_err(|e| e.to_string());
@@ -293,7 +294,7 @@ impl Sweep {
     }
     /// The initial path of a job, by its index into the spec's list.
     pub fn initial(&self, job: &Job) -> &Initial {
-        &self.source.spec.initials[job.initial]
+        &self.source.spec.initials()[job.initial]
     }
 
     // ----- the cursor -----------------------------------------------------

@@ -135,9 +135,9 @@ pub fn png_size(bytes: &[u8]) -> Option<(u32, u32)> {
 /// A sweep small enough for a test: 3 lambdas x 2 initial paths on a
 /// coarse contact (32 nodes, 100 increments per cycle), seconds at most.
 pub fn tiny_sweep_source() -> shakedown::tui::sweep::SweepSource {
-    use shakedown::case::{Case, CaseParams};
-    use shakedown::path::Initial;
-    use shakedown::preset::{Axis, SweepLists};
+    use shakedown::analysis::case::{Case, CaseParams};
+    use shakedown::analysis::sweep::{Axis, SweepLists};
+    use shakedown::model::path::Initial;
     let params = CaseParams {
         nodes: 32,
         steps: 100,
@@ -154,17 +154,19 @@ pub fn tiny_sweep_source() -> shakedown::tui::sweep::SweepSource {
     };
     shakedown::tui::sweep::SweepSource {
         name: "tiny".into(),
-        spec: shakedown::sweep::SweepSpec::over(&case, &lists).expect("valid lists"),
+        spec: shakedown::analysis::sweep::SweepSpec::over(&case, &lists).expect("valid lists"),
         axis: Axis::Lambda,
     }
 }
 
 /// Deterministic rows for every job of `source`, as if the sweep had run:
 /// the state and `W` cycle through a fixed pattern, one run failed.
-pub fn fake_rows(source: &shakedown::tui::sweep::SweepSource) -> Vec<shakedown::sweep::Row> {
-    use shakedown::steady::{Approach, SteadyState};
-    use shakedown::stepper::{StepError, Summary};
-    use shakedown::sweep::{Row, RunError};
+pub fn fake_rows(
+    source: &shakedown::tui::sweep::SweepSource,
+) -> Vec<shakedown::analysis::sweep::Row> {
+    use shakedown::analysis::steady::{Approach, SteadyState};
+    use shakedown::analysis::sweep::{Row, RunError};
+    use shakedown::stepping::{StepError, Summary};
     let jobs = source.spec.jobs();
     let n = jobs.len();
     jobs.into_iter()
@@ -172,7 +174,7 @@ pub fn fake_rows(source: &shakedown::tui::sweep::SweepSource) -> Vec<shakedown::
             let state = SteadyState::ALL[job.index % 5];
             let outcome = if job.index + 1 == n {
                 Err(RunError::Step(StepError::NotSettled {
-                    load: shakedown::params::LoadPoint::new(1.0, 2.0),
+                    load: shakedown::model::LoadPoint::new(1.0, 2.0),
                     phase: "cycle 2".into(),
                     bisections: 8,
                 }))
@@ -194,7 +196,7 @@ pub fn fake_rows(source: &shakedown::tui::sweep::SweepSource) -> Vec<shakedown::
             };
             Row {
                 job,
-                initial: source.spec.initials[job.initial].name(),
+                initial: source.spec.initials()[job.initial].name(),
                 outcome,
             }
         })

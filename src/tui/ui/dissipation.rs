@@ -9,7 +9,7 @@ use ratatui::widgets::{Axis, Chart, Dataset, GraphType};
 use ratatui::Frame;
 
 use super::{nice_ceiling, tick, Theme};
-use crate::stepper::Phase;
+use crate::stepping::Phase;
 use crate::tui::app::{format_sci, App};
 
 pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {

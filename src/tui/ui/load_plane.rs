@@ -10,7 +10,7 @@ use ratatui::widgets::canvas::{Canvas, Line};
 use ratatui::Frame;
 
 use super::Theme;
-use crate::path::Initial;
+use crate::model::path::Initial;
 use crate::tui::app::App;
 
 const TWO_PI: f64 = 2.0 * PI;

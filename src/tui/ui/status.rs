@@ -8,7 +8,7 @@ use ratatui::widgets::Paragraph;
 use ratatui::Frame;
 
 use super::Theme;
-use crate::stepper::{Phase, Status};
+use crate::stepping::{Phase, Status};
 use crate::tui::app::{format_load_factor, format_phase, format_sci, App, Goal};
 
 pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {

@@ -11,9 +11,9 @@ use ratatui::widgets::Paragraph;
 use ratatui::Frame;
 
 use super::{nice_ceiling, tick, Theme};
-use crate::preset::Axis;
-use crate::steady::SteadyState;
-use crate::sweep::{Row, RowState};
+use crate::analysis::steady::SteadyState;
+use crate::analysis::sweep::Axis;
+use crate::analysis::sweep::{Row, RowState};
 use crate::tui::app::{format_load_factor, format_phase, format_sci, App};
 use crate::tui::sweep::{LimitState, Sweep};
 
@@ -302,7 +302,7 @@ fn render_details(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
     let value = |s: String| Span::styled(s, theme.value());
     let mut lines = Vec::new();
     if let Some((job, row)) = sweep.selected() {
-        let initials = sweep.source().spec.initials.len();
+        let initials = sweep.source().spec.initials().len();
         lines.push(Line::from(vec![
             label("lambda"),
             value(format_load_factor(job.load_factor)),

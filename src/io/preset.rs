@@ -15,20 +15,21 @@ use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::case::CaseParams;
-use crate::params::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
-use crate::parse::{parse_angle, parse_number, parse_values, ParseError};
-use crate::path::Initial;
+use crate::analysis::case::CaseParams;
+use crate::analysis::sweep::{Axis, SweepLists};
+use crate::io::parse::{parse_angle, parse_number, parse_values, ParseError};
+use crate::model::path::Initial;
+use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
 
 /// The built-in presets: name and TOML text, in listing order.
 pub const BUILTIN: [(&str, &str); 7] = [
-    ("fig3", include_str!("../presets/fig3.toml")),
-    ("fig4", include_str!("../presets/fig4.toml")),
-    ("fig5", include_str!("../presets/fig5.toml")),
-    ("fig6", include_str!("../presets/fig6.toml")),
-    ("fig7", include_str!("../presets/fig7.toml")),
-    ("fig8", include_str!("../presets/fig8.toml")),
-    ("fig9", include_str!("../presets/fig9.toml")),
+    ("fig3", include_str!("../../presets/fig3.toml")),
+    ("fig4", include_str!("../../presets/fig4.toml")),
+    ("fig5", include_str!("../../presets/fig5.toml")),
+    ("fig6", include_str!("../../presets/fig6.toml")),
+    ("fig7", include_str!("../../presets/fig7.toml")),
+    ("fig8", include_str!("../../presets/fig8.toml")),
+    ("fig9", include_str!("../../presets/fig9.toml")),
 ];
 
 /// A preset that cannot be used.
@@ -62,14 +63,6 @@ pub enum FigureKind {
     SlipMap,
 }
 
-/// The swept variable on the horizontal axis.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Axis {
-    Lambda,
-    Phi,
-}
-
 /// How ratchetting is marked: the paper uses two conventions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -94,15 +87,6 @@ pub struct FigureSpec {
     pub lines: bool,
     /// Plot title; the preset's description when absent.
     pub title: Option<String>,
-}
-
-/// The swept lists of a preset.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SweepLists {
-    pub load_factors: Vec<f64>,
-    pub phases: Vec<f64>,
-    /// Initial paths; `optimal` is [`Initial::Optimal`], resolved per phase.
-    pub initials: Vec<Initial>,
 }
 
 /// A loaded, validated preset.

@@ -7,10 +7,12 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
+use super::driver::{drive, Control, Goal, Silent};
+use super::zones::{slip_zones, zone_changes, ZoneChange};
+use crate::analysis::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
 use crate::contact::{Contact, ContactError, Operators, SlipDirection, Trial};
-use crate::params::{Cycle, Discretisation, LoadPoint, Material};
-use crate::path::{entry_waypoints, segments, Initial, Segment};
-use crate::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
+use crate::model::path::{entry_waypoints, segments, Initial, Segment};
+use crate::model::{Cycle, Discretisation, LoadPoint, Material};
 
 /// A numerical failure of the stepper. Physical end states (gross slip,
 /// separation) are not errors: they are outcomes.
@@ -24,9 +26,12 @@ pub enum StepError {
         phase: String,
         bisections: usize,
     },
-    /// The `optimal` initial slip could not be computed (model.md section 7).
-    #[error("initial path 'optimal': {0}")]
-    Initial(#[from] crate::limit::LimitError),
+    /// The stepper was given [`Initial::Optimal`], whose slip comes from the
+    /// `lambda_2` linear programme: resolve it first with
+    /// [`crate::analysis::limit::resolve_initial`] (or build the run
+    /// through [`crate::analysis::case::Case`]).
+    #[error("initial path 'optimal' was not resolved to a slip distribution")]
+    UnresolvedOptimal,
 }
 
 /// Options of the stepper.
@@ -65,7 +70,14 @@ pub enum Phase {
 #[serde(tag = "event", rename_all = "kebab-case")]
 pub enum Event {
     /// The set of slipping nodes or their directions changed.
-    SlipSetChanged { slipping: usize, zones: usize },
+    SlipSetChanged {
+        /// Nodes slipping now.
+        slipping: usize,
+        /// Slip zones now.
+        zones: usize,
+        /// What happened to the zones (appeared, split, merged, vanished).
+        changes: Vec<ZoneChange>,
+    },
     /// Nodes that slipped stuck again; the increment was cut into
     /// `substeps` sub-increments to resolve the slip locked in there.
     AdvancingStick { nodes: Vec<usize>, substeps: usize },
@@ -185,21 +197,10 @@ impl Stepper {
         let mut unresolved = None;
         let slip = match initial {
             Initial::Slip { slip, .. } => Some(Arc::clone(slip)),
-            // The optimal slip of the lambda_2 problem for this cycle.
-            Initial::Optimal => match crate::limit::shakedown_limit(
-                &material,
-                cycle.center,
-                cycle.slope,
-                cycle.phase,
-                &disc,
-                crate::limit::DEFAULT_SAMPLES,
-            ) {
-                Ok(limit) => Some(Arc::new(limit.slip)),
-                Err(e) => {
-                    unresolved = Some(StepError::Initial(e));
-                    None
-                }
-            },
+            Initial::Optimal => {
+                unresolved = Some(StepError::UnresolvedOptimal);
+                None
+            }
             _ => None,
         };
         if let Some(slip) = slip {
@@ -267,11 +268,9 @@ impl Stepper {
         let dummy = Cycle::new(center, 0.0, 0.0, 0.0).expect("a zero cycle at a valid centre");
         let mut s = Self::with_operators(ops, material, disc, initial, dummy, options);
         // The dummy cycle starts at A, so the transient ends exactly there.
-        while matches!(s.phase, Phase::Transient { .. }) {
-            s.step()?;
-            if let Status::Ended(summary) = &s.status {
-                return Ok(Err(summary.clone()));
-            }
+        drive(&mut s, Goal::TransientEnd, &mut Silent)?;
+        if let Status::Ended(summary) = &s.status {
+            return Ok(Err(summary.clone()));
         }
         Ok(Ok(s.contact))
     }
@@ -394,9 +393,11 @@ impl Stepper {
         self.increments += 1;
         if before != self.contact.directions() {
             let dirs = self.contact.directions();
+            let now = slip_zones(dirs);
             report.events.push(Event::SlipSetChanged {
                 slipping: dirs.iter().filter(|d| d.is_slipping()).count(),
-                zones: slip_zones(dirs).len(),
+                zones: now.len(),
+                changes: zone_changes(&slip_zones(&before), &now, dirs.len()),
             });
         }
         if !report.newly_stuck.is_empty() {
@@ -581,73 +582,33 @@ impl Stepper {
         }
     }
 
-    /// Step until the steady state is reached (or the run ends).
+    /// Step until the steady state is reached (or the run ends): [`drive`]
+    /// with [`Goal::Steady`] and no observer.
+    ///
+    /// # Errors
+    ///
+    /// A numerical failure of an increment.
     pub fn run_to_steady(&mut self) -> Result<Summary, StepError> {
-        while matches!(self.status, Status::Running) {
-            self.step()?;
+        loop {
+            if let Some(summary) = self.summary() {
+                return Ok(summary.clone());
+            }
+            drive(self, Goal::Steady, &mut Silent)?;
         }
-        Ok(self.summary().cloned().expect("not running"))
     }
 
-    /// Step until the current cycle ends (or the run ends).
+    /// Step until the current cycle ends (or the run ends), returning the
+    /// events on the way.
+    ///
+    /// # Errors
+    ///
+    /// A numerical failure of an increment.
     pub fn run_to_cycle_end(&mut self) -> Result<Vec<Event>, StepError> {
         let mut events = Vec::new();
-        let target = self.history.len() + 1;
-        while !self.is_finished() && self.history.len() < target {
-            events.extend(self.step()?.events);
-        }
+        drive(self, Goal::CycleEnd, &mut |_: &Stepper, r: &StepReport| {
+            events.extend(r.events.iter().cloned());
+            Control::Continue
+        })?;
         Ok(events)
-    }
-}
-
-/// Contiguous runs of slipping nodes round the circle, as
-/// `(first, length, direction)`; a run may wrap through node 0. A change of
-/// direction starts a new zone.
-pub fn slip_zones(dirs: &[SlipDirection]) -> Vec<(usize, usize, SlipDirection)> {
-    let n = dirs.len();
-    if n == 0 {
-        return Vec::new();
-    }
-    if dirs.iter().all(|d| *d == dirs[0]) {
-        return if dirs[0].is_slipping() {
-            vec![(0, n, dirs[0])]
-        } else {
-            Vec::new()
-        };
-    }
-    // Start scanning just after a boundary so no zone is split by wrap-around.
-    let start = (0..n)
-        .find(|&j| dirs[j] != dirs[(j + n - 1) % n])
-        .expect("not all equal");
-    let mut zones = Vec::new();
-    let mut j = 0;
-    while j < n {
-        let idx = (start + j) % n;
-        let d = dirs[idx];
-        let mut len = 1;
-        while j + len < n && dirs[(start + j + len) % n] == d {
-            len += 1;
-        }
-        if d.is_slipping() {
-            zones.push((idx, len, d));
-        }
-        j += len;
-    }
-    zones
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use SlipDirection::*;
-
-    #[test]
-    fn zones_wrap_round() {
-        let d = [Forward, Stick, Stick, Forward, Forward];
-        assert_eq!(slip_zones(&d), vec![(3, 3, Forward)]);
-        let d = [Forward, Backward, Stick, Stick];
-        assert_eq!(slip_zones(&d).len(), 2);
-        assert!(slip_zones(&[Stick; 4]).is_empty());
-        assert_eq!(slip_zones(&[Forward; 4]), vec![(0, 4, Forward)]);
     }
 }

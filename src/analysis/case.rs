@@ -6,10 +6,10 @@ use std::f64::consts::PI;
 
 use serde::Serialize;
 
-use crate::limit::LimitError;
-use crate::params::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
-use crate::path::{Initial, PathError};
-use crate::stepper::{StepOptions, Stepper};
+use crate::analysis::limit::LimitError;
+use crate::model::path::{Initial, PathError};
+use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
+use crate::stepping::{StepOptions, Stepper};
 
 /// A case that cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -118,7 +118,8 @@ pub fn resolve_initial(
     disc: &Discretisation,
 ) -> Result<Initial, CaseError> {
     if name.trim().eq_ignore_ascii_case("optimal") {
-        return crate::limit::optimal_initial(material, cycle, disc).map_err(CaseError::Optimal);
+        return crate::analysis::limit::optimal_initial(material, cycle, disc)
+            .map_err(CaseError::Optimal);
     }
     Ok(Initial::parse(name)?)
 }

@@ -11,17 +11,35 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
-use crate::batch::{run_ordered, Abort, Interrupt, Progress};
-use crate::case::Case;
+use crate::analysis::case::Case;
+use crate::analysis::limit::{optimal_initial, LimitError};
+use crate::analysis::steady::SteadyState;
 use crate::contact::Contact;
-use crate::limit::{shakedown_limit, LimitError, DEFAULT_SAMPLES};
-use crate::params::{Cycle, Discretisation, LoadPoint, Material, ParamError};
-use crate::path::Initial;
-use crate::preset::SweepLists;
-use crate::steady::SteadyState;
-use crate::stepper::{operators, Status, StepError, StepOptions, Stepper, Summary};
+use crate::io::batch::{run_ordered, Abort, Interrupt, Progress};
+use crate::model::path::Initial;
+use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError};
+use crate::stepping::{
+    drive, operators, Control, Driven, Goal, StepError, StepOptions, StepReport, Stepper, Summary,
+};
+
+/// The swept lists of a sweep: `lambda`, `phi` and the initial paths.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweepLists {
+    pub load_factors: Vec<f64>,
+    pub phases: Vec<f64>,
+    /// Initial paths; `optimal` is [`Initial::Optimal`], resolved per phase.
+    pub initials: Vec<Initial>,
+}
+
+/// The swept variable on the horizontal axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Axis {
+    Lambda,
+    Phi,
+}
 
 /// The contact at the cycle centre `A` after one initial path, or the
 /// summary of a transient that already ended (gross slip, separation).
@@ -30,14 +48,14 @@ pub type Prepared = Result<Result<Contact, Summary>, StepError>;
 /// What a sweep runs: the product `load_factors x phases x initials`.
 #[derive(Debug, Clone)]
 pub struct SweepSpec {
-    pub material: Material,
-    pub disc: Discretisation,
-    pub options: StepOptions,
-    pub center: LoadPoint,
-    pub slope: f64,
-    pub load_factors: Vec<f64>,
-    pub phases: Vec<f64>,
-    pub initials: Vec<Initial>,
+    material: Material,
+    disc: Discretisation,
+    options: StepOptions,
+    center: LoadPoint,
+    slope: f64,
+    load_factors: Vec<f64>,
+    phases: Vec<f64>,
+    initials: Vec<Initial>,
 }
 
 /// One run of a sweep.
@@ -75,6 +93,8 @@ pub enum RunError {
     Step(#[from] StepError),
     #[error("initial path 'optimal' at phi = {phase}: {source}")]
     Optimal { phase: f64, source: LimitError },
+    #[error(transparent)]
+    Param(#[from] ParamError),
 }
 
 /// One finished run.
@@ -125,18 +145,85 @@ impl SweepSpec {
     /// solver options, cycle centre and slope): what `shakedown sweep` and
     /// the terminal's sweep view both run, so they cannot drift apart.
     pub fn over(case: &Case, lists: &SweepLists) -> Result<SweepSpec, ParamError> {
+        Self::new(
+            case.material,
+            case.disc,
+            case.options,
+            case.cycle.center,
+            case.cycle.slope,
+            lists.clone(),
+        )
+    }
+
+    /// A sweep of `lists` with the cycle centre `center` and slope `slope`.
+    ///
+    /// # Errors
+    ///
+    /// A `lambda`, `phi`, centre or slope for which the cycle is invalid
+    /// (see [`Cycle::new`]).
+    pub fn new(
+        material: Material,
+        disc: Discretisation,
+        options: StepOptions,
+        center: LoadPoint,
+        slope: f64,
+        lists: SweepLists,
+    ) -> Result<SweepSpec, ParamError> {
         let spec = SweepSpec {
-            material: case.material,
-            disc: case.disc,
-            options: case.options,
-            center: case.cycle.center,
-            slope: case.cycle.slope,
-            load_factors: lists.load_factors.clone(),
-            phases: lists.phases.clone(),
-            initials: lists.initials.clone(),
+            material,
+            disc,
+            options,
+            center,
+            slope,
+            load_factors: lists.load_factors,
+            phases: lists.phases,
+            initials: lists.initials,
         };
         spec.validate()?;
         Ok(spec)
+    }
+
+    /// The material.
+    pub fn material(&self) -> Material {
+        self.material
+    }
+    /// The discretisation.
+    pub fn disc(&self) -> Discretisation {
+        self.disc
+    }
+    /// The stepper's options.
+    pub fn options(&self) -> StepOptions {
+        self.options
+    }
+    /// The cycle centre `A`.
+    pub fn center(&self) -> LoadPoint {
+        self.center
+    }
+    /// The slope `psi` of the cycle.
+    pub fn slope(&self) -> f64 {
+        self.slope
+    }
+    /// The load factors `lambda`, outermost in the job order.
+    pub fn load_factors(&self) -> &[f64] {
+        &self.load_factors
+    }
+    /// The phases `phi`.
+    pub fn phases(&self) -> &[f64] {
+        &self.phases
+    }
+    /// The initial paths, innermost in the job order.
+    pub fn initials(&self) -> &[Initial] {
+        &self.initials
+    }
+
+    /// The cycle of `job`.
+    ///
+    /// # Errors
+    ///
+    /// Only for a job that is not from this sweep's lists (those were all
+    /// validated by [`SweepSpec::new`]).
+    pub fn cycle(&self, job: &Job) -> Result<Cycle, ParamError> {
+        Cycle::new(self.center, job.load_factor, self.slope, job.phase)
     }
 
     /// Every run, in output order: `lambda` outermost, then `phi`, then the
@@ -160,7 +247,7 @@ impl SweepSpec {
     }
 
     /// Check every cycle of the sweep before any work starts.
-    pub fn validate(&self) -> Result<(), ParamError> {
+    fn validate(&self) -> Result<(), ParamError> {
         for &l in &self.load_factors {
             for &p in &self.phases {
                 Cycle::new(self.center, l, self.slope, p)?;
@@ -193,20 +280,13 @@ impl SweepSpec {
 
     /// The optimal slip at `A` for `phase`: one linear programme.
     fn optimal_one(&self, ops: &Arc<crate::contact::Operators>, phase: f64) -> OptimalStart {
-        shakedown_limit(
-            &self.material,
-            self.center,
-            self.slope,
-            phase,
-            &self.disc,
-            DEFAULT_SAMPLES,
-        )
-        .map(|limit| {
-            let mut c = Contact::new(self.material, Arc::clone(ops));
-            c.set_slip(&limit.slip);
-            c.set_load_elastic(self.center);
-            c
-        })
+        let cycle = Cycle::new(self.center, 0.0, self.slope, phase)?;
+        let mut contact = Contact::new(self.material, Arc::clone(ops));
+        if let Initial::Slip { slip, .. } = optimal_initial(&self.material, &cycle, &self.disc)? {
+            contact.set_slip(&slip);
+        }
+        contact.set_load_elastic(self.center);
+        Ok(contact)
     }
 
     /// Run `jobs` (a subset of [`SweepSpec::jobs`]) in parallel. `done` is
@@ -232,7 +312,7 @@ impl SweepSpec {
 
     /// Run `jobs` and hand each row to `deliver` in job order, as soon as
     /// it and all the rows before it are done (see
-    /// [`crate::batch::run_ordered`]). So an output written row by row is
+    /// [`crate::io::batch::run_ordered`]). So an output written row by row is
     /// always the start of the complete output. `interrupt` stops the
     /// sweep: draining finishes the runs in progress, aborting drops them
     /// at their next increment. Only the transients (and optimal slips) the
@@ -263,26 +343,25 @@ impl SweepSpec {
         let outcome = match starts.get(self, job) {
             Err(e) => Err(e),
             Ok(Err(summary)) => Ok(summary.clone()),
-            Ok(Ok(contact)) => {
-                let cycle = Cycle::new(self.center, job.load_factor, self.slope, job.phase)
-                    .expect("validated before the sweep");
-                let mut s = Stepper::from_center(contact.clone(), cycle, self.disc, self.options);
-                // As `run_to_steady`, with a look at `stop` between increments.
-                let mut failure = None;
-                while matches!(s.status(), Status::Running) {
-                    if stop() {
-                        return None;
-                    }
-                    if let Err(e) = s.step() {
-                        failure = Some(e);
-                        break;
+            Ok(Ok(contact)) => match self.cycle(job) {
+                Err(e) => Err(RunError::Param(e)),
+                Ok(cycle) => {
+                    let mut s =
+                        Stepper::from_center(contact.clone(), cycle, self.disc, self.options);
+                    let mut look = |_: &Stepper, _: &StepReport| {
+                        if stop() {
+                            Control::Stop
+                        } else {
+                            Control::Continue
+                        }
+                    };
+                    match drive(&mut s, Goal::Steady, &mut look) {
+                        Ok(Driven::Stopped) => return None,
+                        Ok(Driven::Reached) => s.run_to_steady().map_err(RunError::Step),
+                        Err(e) => Err(RunError::Step(e)),
                     }
                 }
-                match failure {
-                    Some(e) => Err(RunError::Step(e)),
-                    None => Ok(s.summary().cloned().expect("not running")),
-                }
-            }
+            },
         };
         Some(Row {
             job: *job,
@@ -357,16 +436,19 @@ mod tests {
 
     #[test]
     fn job_order_is_lambda_phi_initial() {
-        let spec = SweepSpec {
-            material: Material::paper(),
-            disc: Discretisation::default(),
-            options: StepOptions::default(),
-            center: LoadPoint::new(1.0, 1.0),
-            slope: 0.5,
-            load_factors: vec![1.0, 2.0],
-            phases: vec![0.0, 0.5],
-            initials: Initial::paper_set()[..3].to_vec(),
-        };
+        let spec = SweepSpec::new(
+            Material::paper(),
+            Discretisation::default(),
+            StepOptions::default(),
+            LoadPoint::new(1.0, 1.0),
+            0.5,
+            SweepLists {
+                load_factors: vec![1.0, 2.0],
+                phases: vec![0.0, 0.5],
+                initials: Initial::paper_set()[..3].to_vec(),
+            },
+        )
+        .unwrap();
         let jobs = spec.jobs();
         assert_eq!(jobs.len(), 12);
         assert_eq!(

@@ -4,7 +4,7 @@
 use std::f64::consts::{FRAC_PI_4, PI};
 use std::sync::Arc;
 
-use crate::params::{Cycle, LoadPoint};
+use crate::model::{Cycle, LoadPoint};
 
 /// A bad initial-path name or custom path.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -43,8 +43,8 @@ pub enum Initial {
     Slip { name: String, slip: Arc<Vec<f64>> },
     /// The optimal slip of the `lambda_2` problem, not yet computed: it
     /// depends on the cycle's phase, so a sweep over `phi` resolves it once
-    /// per phase ([`crate::sweep::SweepSpec::run`]), and a single case
-    /// resolves it with [`crate::limit::optimal_initial`]. A stepper given
+    /// per phase ([`crate::analysis::sweep::SweepSpec::run`]), and a single case
+    /// resolves it with [`crate::analysis::limit::optimal_initial`]. A stepper given
     /// this unresolved marker would start at `A` with no slip, so resolve it
     /// first.
     Optimal,

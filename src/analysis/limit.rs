@@ -33,8 +33,8 @@ use clarabel::solver::{
 use serde::Serialize;
 
 use crate::contact::{Contact, Operators};
-use crate::params::{Cycle, Discretisation, LoadPoint, Material, ParamError};
-use crate::path::Initial;
+use crate::model::path::Initial;
+use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError};
 
 /// Samples of an elliptical cycle when none are given: the bound on
 /// `lambda_2` is then tight to `1 - cos(pi/64)`, about 0.12 %.

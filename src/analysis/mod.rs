@@ -1,0 +1,11 @@
+//! Analysis of runs: the steady state and its classification, cases and
+//! sweeps, the shakedown limit `lambda_2` by linear programming, the memory
+//! measures `R` and `r` of Fig. 4, slip maps and the ratchetting threshold
+//! `lambda_3`.
+
+pub mod case;
+pub mod limit;
+pub mod memory;
+pub mod slip_map;
+pub mod steady;
+pub mod sweep;

@@ -1,0 +1,99 @@
+//! The model's inputs (model.md section 1) and their validation: the
+//! material, the load plane, the steady cycle, the discretisation and the
+//! initial load paths.
+//!
+//! Everything the physics needs reduces to the friction coefficient `f`,
+//! Kolosov's constant `kappa`, the load path and the discretisation. Every
+//! constructor validates, so a value of these types is always usable.
+
+mod cycle;
+mod discretisation;
+mod load;
+mod material;
+pub mod path;
+
+pub use cycle::Cycle;
+pub use discretisation::Discretisation;
+pub use load::{LoadPoint, Loads};
+pub use material::{Material, Plane};
+pub use path::{Initial, PathError, Segment};
+
+/// A parameter that is out of range or not a number.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ParamError {
+    #[error("{name} = {value} is not a finite number")]
+    NotFinite { name: &'static str, value: f64 },
+    #[error("{name} = {value} is out of range: expected {expected}")]
+    OutOfRange {
+        name: &'static str,
+        value: f64,
+        expected: &'static str,
+    },
+    #[error("{name} = {value} is out of range: expected {expected}")]
+    BadCount {
+        name: &'static str,
+        value: usize,
+        expected: &'static str,
+    },
+}
+
+pub(crate) fn finite(name: &'static str, value: f64) -> Result<f64, ParamError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(ParamError::NotFinite { name, value })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn derived_constants_plane_strain() {
+        let m = Material::paper();
+        assert!((m.kappa() - 1.8).abs() < 1e-12);
+        assert!((m.alpha() - 0.8 / 2.8).abs() < 1e-12);
+        assert!((m.beta() - 4.8 / 2.8).abs() < 1e-12);
+        let chi = ((0.8f64 / 2.8).powi(2) + 0.01 * (4.8f64 / 2.8).powi(2)).sqrt();
+        assert!((m.chi() - chi).abs() < 1e-12);
+    }
+
+    #[test]
+    fn plane_stress_kappa() {
+        let m = Material::new(0.2, 0.25, Plane::Stress).unwrap();
+        assert!((m.kappa() - 2.75 / 1.25).abs() < 1e-12);
+    }
+
+    #[test]
+    fn load_conversion_round_trips() {
+        let m = Material::paper();
+        let p = LoadPoint::new(1.3, -2.1);
+        let back = m.to_load_plane(m.to_loads(p));
+        assert!(p.distance(back) < 1e-12);
+    }
+
+    #[test]
+    fn rejects_bad_inputs() {
+        assert!(Material::new(0.0, 0.3, Plane::Strain).is_err());
+        assert!(Material::new(f64::NAN, 0.3, Plane::Strain).is_err());
+        assert!(Material::new(0.1, 0.5, Plane::Strain).is_err());
+        assert!(Material::new(0.1, -0.1, Plane::Strain).is_err());
+        assert!(Discretisation::new(7, 400).is_err());
+        assert!(Discretisation::new(8, 400).is_err());
+        assert!(Discretisation::new(100_000, 400).is_err());
+        assert!(Discretisation::new(64, 3).is_err());
+        assert!(Cycle::paper(-1.0, 0.0).is_err());
+        assert!(Cycle::paper(f64::INFINITY, 0.0).is_err());
+        assert!(Cycle::paper(1.0, f64::NAN).is_err());
+    }
+
+    #[test]
+    fn cycle_is_a_line_of_half_length_lambda_for_zero_phase() {
+        let c = Cycle::paper(2.0, 0.0).unwrap();
+        let top = c.at(PI / 2.0);
+        assert!((c.center.distance(top) - 2.0).abs() < 1e-12);
+        assert!(((top.y() - c.center.y()) / (top.x() - c.center.x()) - 0.625).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,14 @@
+//! Stepping: advances the contact one load increment at a time along an
+//! initial transient and then the steady cycle, and reports what happened as
+//! events. Every consumer (the TUI, `run`, `sweep`, `figure`) goes through
+//! the one [`Stepper`] and the one driver [`drive`].
+
+mod driver;
+mod stepper;
+mod zones;
+
+pub use driver::{drive, Control, Driven, Goal, Observer, Silent};
+pub use stepper::{
+    operators, Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary,
+};
+pub use zones::{slip_zones, zone_changes, SlipZone, ZoneChange};
