@@ -208,11 +208,14 @@ fn limit_command_prints_lambda_2_and_writes_the_slip() {
 }
 
 #[test]
-fn a_stepper_given_the_unresolved_optimal_path_solves_the_limit_itself() {
+fn the_optimal_path_is_resolved_in_one_place() {
+    use shakedown::analysis::sweep::SweepLists;
     use shakedown::model::Cycle;
-    use shakedown::stepping::Stepper;
+    use shakedown::stepping::{StepError, Stepper};
     let l = limit(0.0);
     let lambda = l.load_factor + 0.05;
+    // A stepper cannot solve the linear programme (it sits below the
+    // analysis layer): given the unresolved path it says so, typed.
     let mut direct = Stepper::new(
         Material::paper(),
         Discretisation::new(NODES, STEPS).unwrap(),
@@ -220,8 +223,24 @@ fn a_stepper_given_the_unresolved_optimal_path_solves_the_limit_itself() {
         Cycle::paper(lambda, 0.0).unwrap(),
         StepOptions::default(),
     );
-    let direct = direct.run_to_steady().unwrap();
+    assert_eq!(direct.run_to_steady(), Err(StepError::UnresolvedOptimal));
+    // A case and a sweep resolve it through the same function and agree.
     let resolved = run_optimal(lambda, 0.0);
-    assert_eq!(direct.state, resolved.state);
-    assert!((direct.dissipation - resolved.dissipation).abs() <= 1e-9 * resolved.dissipation);
+    let spec = SweepSpec::new(
+        Material::paper(),
+        Discretisation::new(NODES, STEPS).unwrap(),
+        StepOptions::default(),
+        LoadPoint::new(PI, 0.75 * PI),
+        0.625,
+        SweepLists {
+            load_factors: vec![lambda],
+            phases: vec![0.0],
+            initials: vec![Initial::Optimal],
+        },
+    )
+    .unwrap();
+    let rows = spec.run(&spec.jobs(), &|_| {}, &Default::default());
+    let swept = rows[0].outcome.as_ref().unwrap();
+    assert_eq!(swept.state, resolved.state);
+    assert!((swept.dissipation - resolved.dissipation).abs() <= 1e-9 * resolved.dissipation);
 }

@@ -75,10 +75,12 @@ impl std::fmt::Display for ZoneChange {
 /// use shakedown::SlipDirection::{Backward, Forward, Stick};
 /// use shakedown::stepping::slip_zones;
 ///
-/// let zones = slip_zones(&[Forward, Stick, Stick, Forward, Backward]);
-/// assert_eq!(zones.len(), 2);
-/// assert_eq!((zones[0].first, zones[0].len), (4, 1));
-/// assert_eq!((zones[1].first, zones[1].len), (0, 1));
+/// // One zone through node 0: nodes 3, 4 and 0.
+/// let zones = slip_zones(&[Forward, Stick, Stick, Forward, Forward]);
+/// assert_eq!(zones.len(), 1);
+/// assert_eq!((zones[0].first, zones[0].len), (3, 3));
+/// // A change of direction starts a new zone.
+/// assert_eq!(slip_zones(&[Forward, Backward, Stick, Stick]).len(), 2);
 /// ```
 pub fn slip_zones(dirs: &[SlipDirection]) -> Vec<SlipZone> {
     let n = dirs.len();
