@@ -81,6 +81,8 @@
 //! ```
 
 
+#![warn(missing_docs)]
+
 pub mod analysis;
 pub mod contact;
 #[cfg(feature = "plot")]
