@@ -1,6 +1,28 @@
 //! A case: everything one run needs (material, cycle, discretisation,
 //! initial path, solver options), validated. The CLI, presets and the TUI
 //! all build runs through this type.
+//!
+//! ```
+//! use shakedown::analysis::case::{Case, CaseError, CaseParams};
+//! use shakedown::model::path::Initial;
+//! use shakedown::model::ParamError;
+//!
+//! // The defaults are the paper's parameters at point B (lambda = 7, phi = 0)
+//! // with the direct transient OA.
+//! let case = Case::from_params(&CaseParams::default()).unwrap();
+//! assert_eq!(case.initial, Initial::Direct);
+//! assert_eq!(case.cycle.load_factor, 7.0);
+//! assert_eq!(case.disc.nodes(), 128);
+//!
+//! // Validation reports the first bad parameter.
+//! let odd = CaseParams { nodes: 127, ..CaseParams::default() };
+//! assert!(matches!(
+//!     Case::from_params(&odd),
+//!     Err(CaseError::Param(ParamError::BadCount { name: "nodes", .. }))
+//! ));
+//! let path = CaseParams { initial: "3,3".into(), ..CaseParams::default() };
+//! assert!(matches!(Case::from_params(&path), Err(CaseError::Path(_))));
+//! ```
 
 use std::f64::consts::PI;
 
@@ -14,30 +36,53 @@ use crate::stepping::{StepOptions, Stepper};
 /// A case that cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CaseError {
+    /// A material, cycle or discretisation parameter is invalid.
     #[error(transparent)]
     Param(#[from] ParamError),
+    /// The initial-path name does not parse.
     #[error(transparent)]
     Path(#[from] PathError),
+    /// The cycle cap `max_cycles` is outside `1..=100000` (the value given).
     #[error("max-cycles = {0} is out of range: expected 1 to 100000")]
     MaxCycles(usize),
+    /// The initial path is `optimal` and the `lambda_2` linear programme
+    /// that defines it failed (model.md sections 7.3 and 7.4).
     #[error("initial path 'optimal': {0}")]
     Optimal(#[from] LimitError),
 }
 
 /// The raw parameters of a case as a user gives them (all optional fields
 /// default to the paper's values).
+///
+/// Nothing is checked here: [`Case::from_params`] validates. The loads are
+/// in the load plane of Fig. 2 (model.md section 1.1) and the cycle is
+/// eq. (11) (model.md section 5.1).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CaseParams {
+    /// `lambda`, the load factor of eq. (12). Default 7 (point B).
     pub load_factor: f64,
+    /// `phi`, the phase of the torque against the force, radians. Default 0.
     pub phase: f64,
+    /// `psi`, the slope of the load line, eq. (13). Default `5/8`.
     pub slope: f64,
+    /// The cycle centre `A = (x0, y0)` in the load plane. Default
+    /// `(pi, 3 pi / 4)`.
     pub center: (f64, f64),
+    /// The friction coefficient `f`. Default 0.1.
     pub friction: f64,
+    /// Poisson's ratio `nu`. Default 0.3.
     pub poisson: f64,
+    /// Plane strain or plane stress. Default plane strain.
     pub plane: Plane,
+    /// The initial path: `OA`, `a,b` (one of the paper's 24, units of
+    /// `pi/4`) or `optimal` (model.md sections 5.2 and 7.4). Default `OA`.
     pub initial: String,
+    /// Interface nodes `N` (even, 16 to 4096). Default 128.
     pub nodes: usize,
+    /// Increments per cycle (16 to 100000). Default 400.
     pub steps: usize,
+    /// Cycles run at most before the run is reported not converged
+    /// (1 to 100000; model.md section 6.1). Default 200.
     pub max_cycles: usize,
 }
 
@@ -61,19 +106,38 @@ impl Default for CaseParams {
     }
 }
 
-/// A validated case.
+/// A validated case: everything [`Case::stepper`] needs to start a run.
+///
+/// With `optimal` requested, [`Case::initial`] already holds the resolved
+/// slip ([`Initial::Slip`]), never the unresolved [`Initial::Optimal`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Case {
+    /// Friction and elastic constants.
     pub material: Material,
+    /// The steady cycle (`lambda`, `phi`, `psi`, centre `A`).
     pub cycle: Cycle,
+    /// Nodes and increments per cycle.
     pub disc: Discretisation,
+    /// The initial path, resolved.
     pub initial: Initial,
+    /// The stepper's options, with the cycle cap from
+    /// [`CaseParams::max_cycles`] and the rest at their defaults.
     pub options: StepOptions,
 }
 
 impl Case {
     /// Validate the parameters. `optimal` as the initial path is resolved by
-    /// the limit analysis.
+    /// the limit analysis (one linear programme, model.md section 7.3), so
+    /// only then is this more than cheap.
+    ///
+    /// # Errors
+    ///
+    /// [`CaseError::Param`] for an invalid material ([`Material::new`]),
+    /// cycle ([`Cycle::new`]) or discretisation ([`Discretisation::new`]);
+    /// [`CaseError::MaxCycles`] unless `1 <= max_cycles <= 100000`;
+    /// [`CaseError::Path`] for an initial path that does not parse; and
+    /// [`CaseError::Optimal`] when the `optimal` slip cannot be computed.
+    /// They are checked in that order, and the first failure is returned.
     pub fn from_params(p: &CaseParams) -> Result<Case, CaseError> {
         let material = Material::new(p.friction, p.poisson, p.plane)?;
         let cycle = Cycle::new(
@@ -98,7 +162,9 @@ impl Case {
         })
     }
 
-    /// A stepper at the start of this case.
+    /// A stepper at the start of this case: at `O` before the transient, or
+    /// at `A` with the locked-in slip for [`Initial::Slip`]. Each call gives
+    /// a fresh, independent run.
     pub fn stepper(&self) -> Stepper {
         Stepper::new(
             self.material,
@@ -111,6 +177,17 @@ impl Case {
 }
 
 /// Resolve an initial-path name: `OA`, `a,b`, or `optimal`.
+///
+/// `optimal` (any case) is computed for this material, cycle and
+/// discretisation by [`crate::analysis::limit::optimal_initial`]: it depends
+/// on the cycle's phase, not on its `lambda`. Other names go to
+/// [`Initial::parse`].
+///
+/// # Errors
+///
+/// [`CaseError::Optimal`] when the `lambda_2` programme fails (e.g. no
+/// slip satisfies the friction law at `A`); [`CaseError::Path`] when the
+/// name does not parse.
 pub fn resolve_initial(
     name: &str,
     material: &Material,

@@ -38,11 +38,17 @@ const SLIP_FRACTION: f64 = 1e-6;
 /// One run of the memory figure: which nodes slipped before and after `A`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MemoryRun {
+    /// `lambda` of the run.
     pub load_factor: f64,
+    /// `phi` of the run, radians.
     pub phase: f64,
+    /// The initial path's stable name ([`Initial::name`]).
     pub initial: String,
+    /// The run's summary, or the numerical failure that stopped it.
     pub outcome: Result<Summary, StepError>,
-    /// Nodes that slipped during the transient `O -> I -> A`.
+    /// Nodes that slipped during the transient `O -> I -> A`, one flag per
+    /// node. Slip below `1e-6` of the largest accumulated `|dg|` of the run
+    /// counts as round-off (model.md section 6.2).
     pub transient_slip: Vec<bool>,
     /// Nodes that slipped at any time after `A` (the entry `A -> C` and
     /// every cycle, not only the steady one).
@@ -52,17 +58,23 @@ pub struct MemoryRun {
 /// `R` and `r` at one `lambda` (model.md section 7).
 #[derive(Debug, Clone, PartialEq)]
 pub struct MemoryPoint {
+    /// `lambda` of the runs.
     pub load_factor: f64,
+    /// `phi` of the runs, radians.
     pub phase: f64,
     /// `R = (max W - min W) / mean W` over every run at this `lambda`;
     /// `None` unless every run reached a steady state with slip.
     pub range: Option<f64>,
     /// `r`: of the nodes that slipped during `O -> I -> A`, the fraction that
     /// never slips again, averaged over the transients that slipped at all;
-    /// `None` when no transient slipped.
+    /// `None` when no transient slipped. Runs that failed numerically are
+    /// left out.
     pub stuck_fraction: Option<f64>,
+    /// Runs that shook down.
     pub shakedown: usize,
+    /// Runs that ended in cyclic slip.
     pub cyclic_slip: usize,
+    /// Runs that ratchet, monotonically or not.
     pub ratchetting: usize,
     /// Gross slip, separation, not converged or failed.
     pub other: usize,
@@ -103,6 +115,18 @@ impl Observer for SlipTally {
 /// Run the memory figure's sweep: every `lambda x phi x initial` of `spec`,
 /// tracking per node the slip before and after `A`. `done` is called once
 /// per finished run. Runs go in parallel; the result is in job order.
+///
+/// Each transient to `A` is run once and shared by every `lambda` and `phi`.
+/// A run whose transient failed numerically, or ended in gross slip or
+/// separation, is still returned (with that outcome), so that one bad
+/// transient does not lose the rest of the figure.
+///
+/// # Errors
+///
+/// [`MemoryError::NoTransient`] if an initial path of `spec` starts at `A`
+/// (`optimal` or a prescribed slip), checked before any work;
+/// [`MemoryError::Param`] if the cycle of a job is invalid. Numerical
+/// failures of single runs are in [`MemoryRun::outcome`], not errors here.
 pub fn memory_runs(
     spec: &SweepSpec,
     done: &(dyn Fn() + Sync),
@@ -178,7 +202,8 @@ pub fn memory_runs(
 }
 
 /// `R` and `r` for each `(lambda, phi)` of the runs, in order of first
-/// appearance.
+/// appearance, with the count of each steady state (model.md sections 7.1
+/// and 7.2).
 pub fn memory_points(runs: &[MemoryRun]) -> Vec<MemoryPoint> {
     let mut keys: Vec<(f64, f64)> = Vec::new();
     for r in runs {
@@ -249,10 +274,13 @@ pub fn memory_points(runs: &[MemoryRun]) -> Vec<MemoryPoint> {
         .collect()
 }
 
-/// Columns of the memory figure's CSV.
+/// Columns of the memory figure's CSV ([`memory_csv`]): `R` is
+/// [`MemoryPoint::range`], `r` is [`MemoryPoint::stuck_fraction`].
 pub const MEMORY_HEADER: &str = "lambda,phi,R,r,shakedown,cyclic_slip,ratchetting,other";
 
-/// The memory figure's CSV; an undefined `R` or `r` is an empty field.
+/// The memory figure's CSV: the header [`MEMORY_HEADER`] and one line per
+/// point, each ending in a newline; an undefined `R` or `r` is an empty
+/// field.
 pub fn memory_csv(points: &[MemoryPoint]) -> String {
     let opt = |v: Option<f64>| v.map(|v| v.to_string()).unwrap_or_default();
     let mut out = format!("{MEMORY_HEADER}\n");

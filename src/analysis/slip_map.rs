@@ -1,5 +1,10 @@
 //! Slip maps (Figs. 5 and 7): the slip direction of every node at every
 //! increment of one steady cycle.
+//!
+//! The map shows where the slip zones form, travel, split and merge, and in
+//! which direction each node slips (forward and backward, model.md section
+//! 1.3): at point B (Fig. 5) some nodes slip back and forth, at point C
+//! (Fig. 7) none slips against the ratchet.
 
 use std::f64::consts::PI;
 
@@ -28,8 +33,10 @@ pub enum SlipMapError {
 /// One increment of the steady cycle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SlipMapRow {
-    /// `omega t` at the start and end of the increment.
+    /// `omega t` at the start of the increment, in `[0, 2 pi)`.
     pub t0: f64,
+    /// `omega t` at the end of the increment, in `(0, 2 pi]` (the last
+    /// increment ends at `2 pi`, not 0).
     pub t1: f64,
     /// The load at the end of the increment.
     pub load: LoadPoint,
@@ -41,17 +48,33 @@ pub struct SlipMapRow {
 /// The slip zones of one steady cycle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SlipMap {
+    /// The case's material (for the conversion to scaled loads).
     pub material: Material,
+    /// The case's cycle.
     pub cycle: Cycle,
+    /// The number `N` of interface nodes.
     pub nodes: usize,
+    /// The summary of the run to its steady state, before the mapped cycle.
     pub summary: Summary,
     /// The load at `t = 0` (the point `C`).
     pub start: LoadPoint,
+    /// One row per increment of the mapped cycle, in time order.
     pub rows: Vec<SlipMapRow>,
 }
 
 /// Run `case` to its steady state, then through one more cycle, recording
 /// the slip direction of every node at every increment.
+///
+/// The mapped cycle is one more cycle after the verdict, so it shows the
+/// steady cycle itself (for a run that is not converged, simply the next
+/// cycle).
+///
+/// # Errors
+///
+/// [`SlipMapError::NoSteadyCycle`] when the run ends (gross slip,
+/// separation) before or during the mapped cycle, so there is no steady
+/// cycle to map; [`SlipMapError::Step`] when an increment fails
+/// numerically.
 pub fn slip_map(case: &Case) -> Result<SlipMap, SlipMapError> {
     let mut s = case.stepper();
     let summary = s.run_to_steady()?;
@@ -108,9 +131,11 @@ impl SlipMap {
     /// Columns of [`SlipMap::csv`].
     pub const HEADER: &'static str = "omega_t,theta,direction";
 
-    /// Long CSV: one line per increment and node, `direction` in
-    /// `{-1, 0, 1}` (backward, stick, forward); `omega_t` is the end of the
-    /// increment.
+    /// Long CSV under [`SlipMap::HEADER`]: one line per increment and node,
+    /// `direction` the node's [`SlipDirection::sign`] in `{-1, 0, 1}`
+    /// (`0` is stick; the sign follows the code's [`SlipDirection`], see
+    /// model.md section 1.3 for forward and backward); `omega_t` is the end
+    /// of the increment and `theta` is in `[-pi, pi)`.
     pub fn csv(&self) -> String {
         let mut out = format!("{}\n", Self::HEADER);
         for r in &self.rows {
@@ -124,7 +149,8 @@ impl SlipMap {
     /// Columns of [`SlipMap::load_csv`].
     pub const LOAD_HEADER: &'static str = "omega_t,x,y,radial,torque";
 
-    /// The load over the cycle: load-plane `x = chi Pt / f`, `y = Tt / f`
+    /// The load over the cycle, under [`SlipMap::LOAD_HEADER`]: load-plane
+    /// `x = chi Pt / f`, `y = Tt / f`
     /// and the scaled loads `Pt`, `Tt`, at `t = 0` and the end of every
     /// increment.
     pub fn load_csv(&self) -> String {

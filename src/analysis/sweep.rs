@@ -27,7 +27,9 @@ use crate::stepping::{
 /// The swept lists of a sweep: `lambda`, `phi` and the initial paths.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SweepLists {
+    /// The load factors `lambda`, in output order.
     pub load_factors: Vec<f64>,
+    /// The phases `phi`, radians, in output order.
     pub phases: Vec<f64>,
     /// Initial paths; `optimal` is [`Initial::Optimal`], resolved per phase.
     pub initials: Vec<Initial>,
@@ -37,7 +39,9 @@ pub struct SweepLists {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Axis {
+    /// The load factor `lambda` (Figs. 3, 4 and 8); spelt `lambda`.
     Lambda,
+    /// The phase `phi` (Figs. 6 and 9); spelt `phi`.
     Phi,
 }
 
@@ -45,7 +49,13 @@ pub enum Axis {
 /// summary of a transient that already ended (gross slip, separation).
 pub type Prepared = Result<Result<Contact, Summary>, StepError>;
 
-/// What a sweep runs: the product `load_factors x phases x initials`.
+/// What a sweep runs: the product `load_factors x phases x initials`, all
+/// with one material, discretisation, solver options, cycle centre `A` and
+/// slope `psi`.
+///
+/// Built with [`SweepSpec::new`] or [`SweepSpec::over`], which validate
+/// every cycle up front, so a sweep never fails half-way on a bad
+/// parameter.
 #[derive(Debug, Clone)]
 pub struct SweepSpec {
     material: Material,
@@ -63,17 +73,24 @@ pub struct SweepSpec {
 pub struct Job {
     /// Position in the full job list: the row order of the output.
     pub index: usize,
+    /// `lambda` of this run.
     pub load_factor: f64,
+    /// `phi` of this run, radians.
     pub phase: f64,
     /// Index into [`SweepSpec::initials`].
     pub initial: usize,
 }
 
 /// The state column of a row: a steady state, or a numerical failure.
+///
+/// Displayed as the steady state's name, or `failed`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(untagged)]
 pub enum RowState {
+    /// The run finished with this verdict (including the terminal events
+    /// gross slip and separation, and not converged; model.md section 6.2).
     Steady(SteadyState),
+    /// The run has no summary ([`RunError`]).
     Failed,
 }
 
@@ -89,10 +106,19 @@ impl std::fmt::Display for RowState {
 /// Why a run of a sweep has no summary.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RunError {
+    /// An increment failed numerically (in the transient or the cycles).
     #[error(transparent)]
     Step(#[from] StepError),
+    /// The optimal initial slip for this phase could not be computed.
     #[error("initial path 'optimal' at phi = {phase}: {source}")]
-    Optimal { phase: f64, source: LimitError },
+    Optimal {
+        /// `phi` of the failed linear programme, radians.
+        phase: f64,
+        /// Why the `lambda_2` programme failed.
+        source: LimitError,
+    },
+    /// The job's cycle is invalid (only for a job not from this sweep's
+    /// lists; see [`SweepSpec::cycle`]).
     #[error(transparent)]
     Param(#[from] ParamError),
 }
@@ -100,8 +126,12 @@ pub enum RunError {
 /// One finished run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
+    /// The job that was run.
     pub job: Job,
+    /// The initial path's stable name ([`Initial::name`]).
     pub initial: String,
+    /// The run's summary (steady state, `W`, cycles, rotation per cycle),
+    /// or why it has none.
     pub outcome: Result<Summary, RunError>,
 }
 
@@ -109,6 +139,7 @@ pub struct Row {
 pub const CSV_HEADER: &str = "lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle";
 
 impl Row {
+    /// The state column: the summary's state, or [`RowState::Failed`].
     pub fn state(&self) -> RowState {
         match &self.outcome {
             Ok(s) => RowState::Steady(s.state),
@@ -143,7 +174,13 @@ type OptimalStart = Result<Contact, LimitError>;
 impl SweepSpec {
     /// The sweep of `lists` over the model of `case` (material, contact,
     /// solver options, cycle centre and slope): what `shakedown sweep` and
-    /// the terminal's sweep view both run, so they cannot drift apart.
+    /// the terminal's sweep view both run, so they cannot drift apart. The
+    /// case's own `lambda`, `phi` and initial path are not used.
+    ///
+    /// # Errors
+    ///
+    /// As [`SweepSpec::new`]: a `lambda` or `phi` of `lists` for which the
+    /// cycle is invalid.
     pub fn over(case: &Case, lists: &SweepLists) -> Result<SweepSpec, ParamError> {
         Self::new(
             case.material,
@@ -259,6 +296,7 @@ impl SweepSpec {
     /// The contact at `A` for each initial path (in parallel), or the
     /// summary of a transient that already ended in gross slip or separation.
     /// The `optimal` path has no phase-free start; it gets an error here.
+    /// One entry per [`SweepSpec::initials`], in that order.
     pub fn prepare(&self) -> Vec<Prepared> {
         let ops = operators(&self.disc);
         self.initials

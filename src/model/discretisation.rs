@@ -1,4 +1,5 @@
-//! Nodes round the interface and increments per cycle.
+//! Nodes round the interface and increments per cycle (model.md section
+//! 3.3).
 
 use std::f64::consts::PI;
 
@@ -6,7 +7,31 @@ use serde::Serialize;
 
 use super::ParamError;
 
-/// Discretisation: nodes round the interface and increments per cycle.
+/// Discretisation: nodes round the interface and increments per cycle
+/// (model.md section 3.3).
+///
+/// `N` (`nodes`) equally spaced nodes `theta_j = 2 pi j / N` carry the
+/// nodal slip `g_j`; the steady cycle is cut into `steps` equal increments
+/// of `omega t`, and a transient into increments no longer than
+/// [`Discretisation::transient_step`]. The default is the paper's
+/// resolution, 128 nodes and 400 increments a cycle.
+///
+/// ```
+/// use shakedown::model::{Discretisation, ParamError};
+///
+/// let d = Discretisation::new(64, 200).unwrap();
+/// assert_eq!((d.nodes(), d.steps_per_cycle()), (64, 200));
+/// assert_eq!(Discretisation::default().nodes(), 128);
+/// // N must be even (the Nyquist mode, model.md section 3.3) and in range.
+/// assert!(matches!(
+///     Discretisation::new(63, 200),
+///     Err(ParamError::BadCount { name: "nodes", .. })
+/// ));
+/// assert!(matches!(
+///     Discretisation::new(64, 3),
+///     Err(ParamError::BadCount { name: "steps", .. })
+/// ));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Discretisation {
     nodes: usize,
@@ -23,11 +48,24 @@ impl Default for Discretisation {
 }
 
 impl Discretisation {
+    /// Fewest interface nodes `N` accepted.
     pub const MIN_NODES: usize = 16;
+    /// Most interface nodes `N` accepted (the operators are dense
+    /// `N x N` matrices).
     pub const MAX_NODES: usize = 4096;
+    /// Fewest increments per cycle accepted.
     pub const MIN_STEPS: usize = 16;
+    /// Most increments per cycle accepted.
     pub const MAX_STEPS: usize = 100_000;
 
+    /// `nodes` interface nodes and `steps_per_cycle` increments per cycle.
+    ///
+    /// # Errors
+    ///
+    /// [`ParamError::BadCount`] (named `nodes`) unless `nodes` is even and in
+    /// [`MIN_NODES`](Self::MIN_NODES)`..=`[`MAX_NODES`](Self::MAX_NODES);
+    /// [`ParamError::BadCount`] (named `steps`) unless `steps_per_cycle` is in
+    /// [`MIN_STEPS`](Self::MIN_STEPS)`..=`[`MAX_STEPS`](Self::MAX_STEPS).
     pub fn new(nodes: usize, steps_per_cycle: usize) -> Result<Self, ParamError> {
         if !(Self::MIN_NODES..=Self::MAX_NODES).contains(&nodes) || !nodes.is_multiple_of(2) {
             return Err(ParamError::BadCount {
@@ -48,13 +86,15 @@ impl Discretisation {
             steps_per_cycle,
         })
     }
+    /// The number `N` of interface nodes (`nodes`).
     pub fn nodes(&self) -> usize {
         self.nodes
     }
+    /// Increments per steady cycle (`steps`).
     pub fn steps_per_cycle(&self) -> usize {
         self.steps_per_cycle
     }
-    /// Node angle `theta_j = 2 pi j / N`.
+    /// Node angle `theta_j = 2 pi j / N`, in `[0, 2 pi)` for `j < N`.
     pub fn theta(&self, j: usize) -> f64 {
         2.0 * PI * j as f64 / self.nodes as f64
     }

@@ -1,29 +1,46 @@
-//! The load plane of the paper's Fig. 2 and the scaled loads of eq. (3).
+//! The load plane of the paper's Fig. 2 and the scaled loads of eq. (3)
+//! (model.md section 1.1). [`crate::model::Material`] converts between the
+//! two, since the conversion needs `f` and `chi`.
 
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
 /// Scaled loads `Pt = P/(p0 a)` and `Tt = T/(p0 a^2)` (eq. 3).
+///
+/// Sense (model.md section 1.1): a positive `Pt` pushes the disc towards
+/// `theta = -pi/2`; a positive `Tt` turns it clockwise, the sense of forward
+/// slip (model.md section 1.3).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Loads {
+    /// The scaled radial force `Pt = P / (p0 a)`.
     pub radial: f64,
+    /// The scaled torque `Tt = T / (p0 a^2)`.
     pub torque: f64,
 }
 
 /// A point of the load plane (the paper's Fig. 2): `x = chi Pt / f`,
 /// `y = Tt / f`.
+///
+/// In these coordinates the initial stick region is the diamond
+/// `|x| + |y| <= 2 pi` and gross slip sets in at `|y| = 2 pi`, whatever the
+/// material (model.md section 2.3). Serialised as `[x, y]`; displayed as
+/// `(x, y)` to four decimals. The field holds the coordinates `(x, y)`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct LoadPoint(pub Vector2<f64>);
 
 impl LoadPoint {
+    /// The unloaded state `O = (0, 0)`, where every transient starts.
     pub const ORIGIN: LoadPoint = LoadPoint(Vector2::new(0.0, 0.0));
 
+    /// The point `(x, y) = (chi Pt / f, Tt / f)`.
     pub const fn new(x: f64, y: f64) -> Self {
         LoadPoint(Vector2::new(x, y))
     }
+    /// `x = chi Pt / f`, the scaled force.
     pub fn x(&self) -> f64 {
         self.0.x
     }
+    /// `y = Tt / f`, the scaled torque.
     pub fn y(&self) -> f64 {
         self.0.y
     }
@@ -31,6 +48,8 @@ impl LoadPoint {
     pub fn lerp(&self, to: LoadPoint, s: f64) -> LoadPoint {
         LoadPoint(self.0 + (to.0 - self.0) * s)
     }
+    /// Euclidean distance to `to` in the load plane (the measure of the
+    /// transient increments, [`crate::model::Discretisation::transient_step`]).
     pub fn distance(&self, to: LoadPoint) -> f64 {
         (to.0 - self.0).norm()
     }

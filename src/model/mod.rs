@@ -19,20 +19,41 @@ pub use material::{Material, Plane};
 pub use path::{Initial, PathError, Segment};
 
 /// A parameter that is out of range or not a number.
+///
+/// Returned by every validating constructor of this module
+/// ([`Material::new`], [`Cycle::new`], [`Discretisation::new`]), so that a
+/// value of those types is always usable by the solver. `name` is the
+/// parameter as the command line spells it (`friction`, `nu`, `lambda`,
+/// `psi`, `phi`, `nodes`, `steps`, ...).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamError {
+    /// A real parameter is NaN or infinite.
     #[error("{name} = {value} is not a finite number")]
-    NotFinite { name: &'static str, value: f64 },
+    NotFinite {
+        /// The parameter's name.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// A real parameter is finite but outside its admissible range.
     #[error("{name} = {value} is out of range: expected {expected}")]
     OutOfRange {
+        /// The parameter's name.
         name: &'static str,
+        /// The value given.
         value: f64,
+        /// The admissible range, in words (e.g. `0 < f <= 10`).
         expected: &'static str,
     },
+    /// A count (nodes, increments per cycle) is outside its admissible
+    /// range or, for the nodes, odd.
     #[error("{name} = {value} is out of range: expected {expected}")]
     BadCount {
+        /// The parameter's name.
         name: &'static str,
+        /// The count given.
         value: usize,
+        /// The admissible counts, in words.
         expected: &'static str,
     },
 }

@@ -1,5 +1,24 @@
 //! Load paths (model.md section 5): the initial transients that prepare the
 //! locked-in slip, and the steady cycle of eq. (11) that follows.
+//!
+//! Because slip changes the contact pressure, the steady state can depend on
+//! the history before the cycle; an [`Initial`] names that history. The
+//! paper's 25 transients are `OA` and the 24 paths `O -> I -> A` through the
+//! crosses of Fig. 2 (model.md section 5.2), in a stable order used by every
+//! table, CSV and plot.
+//!
+//! ```
+//! use shakedown::model::path::{Initial, PathError};
+//!
+//! assert_eq!(Initial::parse("7,-7"), Ok(Initial::Via { a: 7, b: -7 }));
+//! assert_eq!(Initial::parse("OA"), Ok(Initial::Direct));
+//! // (3 pi/4, 3 pi/4) lies inside the stick diamond: it would leave no slip.
+//! assert_eq!(Initial::parse("3,3"), Err(PathError::InsideStick(3, 3)));
+//!
+//! let all = Initial::paper_set();
+//! assert_eq!(all.len(), 25);
+//! assert_eq!(all[1].name(), "-7,-7");
+//! ```
 
 use std::f64::consts::{FRAC_PI_4, PI};
 use std::sync::Arc;
@@ -9,38 +28,69 @@ use crate::model::{Cycle, LoadPoint};
 /// A bad initial-path name or custom path.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PathError {
+    /// The text is neither `OA` nor a pair of integers `a,b` (the text as
+    /// given).
     #[error(
         "initial path '{0}' is not known: expected OA, optimal, or one of the 24 points a,b in units of pi/4 with |a|,|b| in {{3,5,7}} and |a|+|b| > 8 (e.g. 7,-7)"
     )]
     Unknown(String),
+    /// The point `I = (a pi/4, b pi/4)` lies in the initial stick diamond
+    /// `|x| + |y| <= 2 pi` (model.md section 2.3), so the path would leave
+    /// no locked-in slip: `(a, b)`.
     #[error(
         "initial point {0},{1} (units of pi/4) lies inside the initial stick region |x|+|y| <= 2pi, so it prepares no slip: pick |a|+|b| > 8"
     )]
     InsideStick(i32, i32),
+    /// The point `(a, b)` is outside the diamond but not one of the paper's
+    /// 24 (`|a|, |b|` in `{3, 5, 7}`, `|a| + |b| > 8`).
     #[error(
         "initial point {0},{1} (units of pi/4) is not one of the paper's 24: |a| and |b| must be 3, 5 or 7 with |a|+|b| > 8"
     )]
     NotPaperPoint(i32, i32),
+    /// A list ends with a lone number where a point `a,b` needs two (the
+    /// number as given).
     #[error("initial point '{0}' needs two numbers a,b (units of pi/4)")]
     HalfPoint(String),
+    /// The list of initial paths is empty.
     #[error("the list of initial paths is empty")]
     EmptyList,
+    /// A point of a custom transient has a NaN or infinite coordinate.
     #[error("custom path point {index} is not finite")]
-    NotFinite { index: usize },
+    NotFinite {
+        /// Position of the offending point in the list given to
+        /// [`Initial::custom`] (from 0).
+        index: usize,
+    },
 }
 
-/// How the locked-in slip is prepared before the steady cycle starts.
+/// How the locked-in slip is prepared before the steady cycle starts
+/// (model.md sections 5.2 and 7.4).
+///
+/// Every path but [`Initial::Slip`] and [`Initial::Optimal`] starts at the
+/// unloaded, unslipped state `O` and ends at the cycle centre `A`; the
+/// straight entry `A -> C` onto the cycle follows in every case (model.md
+/// section 5.3, [`entry_waypoints`]).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Initial {
     /// The direct path `O -> A` ("OA").
     Direct,
     /// `O -> I -> A` with `I = (a pi/4, b pi/4)`: one of the paper's 24.
-    Via { a: i32, b: i32 },
+    Via {
+        /// `x` of the turning point `I`, in units of `pi/4`.
+        a: i32,
+        /// `y` of the turning point `I`, in units of `pi/4`.
+        b: i32,
+    },
     /// `O -> p1 -> ... -> pk -> A`, a user's own transient.
     Custom(Vec<LoadPoint>),
     /// Start at `A` with this locked-in slip and no transient (model.md
-    /// section 7: the optimal slip of the `lambda_2` problem).
-    Slip { name: String, slip: Arc<Vec<f64>> },
+    /// section 7.4: the optimal slip of the `lambda_2` problem).
+    Slip {
+        /// The name reported for this path (e.g. `optimal`).
+        name: String,
+        /// The nodal slip `g_j`, one value per interface node.
+        slip: Arc<Vec<f64>>,
+    },
     /// The optimal slip of the `lambda_2` problem, not yet computed: it
     /// depends on the cycle's phase, so a sweep over `phi` resolves it once
     /// per phase ([`crate::analysis::sweep::SweepSpec::run`]), and a single case
@@ -78,7 +128,16 @@ impl Initial {
     }
 
     /// Parse `OA` or `a,b`. (`optimal` needs the limit analysis and is
-    /// resolved by the caller.)
+    /// resolved by the caller, e.g. [`crate::analysis::case::resolve_initial`].)
+    /// Case and surrounding spaces are ignored; the result's
+    /// [`Initial::name`] parses back to it.
+    ///
+    /// # Errors
+    ///
+    /// [`PathError::Unknown`] for anything but `OA` or two integers `a,b`
+    /// (including `optimal`); [`PathError::InsideStick`] if `I` lies in the
+    /// stick diamond; [`PathError::NotPaperPoint`] if it is outside the
+    /// diamond but not one of the paper's 24.
     pub fn parse(text: &str) -> Result<Initial, PathError> {
         let t = text.trim();
         if t.eq_ignore_ascii_case("oa") {
@@ -104,6 +163,25 @@ impl Initial {
     /// Parse a list such as `all`, `OA,7,-7,3,7` or `all,optimal`: `all` is
     /// the paper's 25, `optimal` the (unresolved) [`Initial::Optimal`], and a
     /// point takes two numbers. Repeats are dropped, keeping the first.
+    ///
+    /// # Errors
+    ///
+    /// [`PathError::EmptyList`] for an empty text; [`PathError::HalfPoint`]
+    /// for a trailing lone number; otherwise the first error of
+    /// [`Initial::parse`] on an item (an empty item between commas is
+    /// [`PathError::Unknown`]).
+    ///
+    /// ```
+    /// use shakedown::model::path::Initial;
+    ///
+    /// let list = Initial::parse_list("all,optimal").unwrap();
+    /// assert_eq!(list.len(), 26);
+    /// assert_eq!(list[25], Initial::Optimal);
+    /// assert_eq!(
+    ///     Initial::parse_list("OA, 7,-7, oa").unwrap(),
+    ///     vec![Initial::Direct, Initial::Via { a: 7, b: -7 }],
+    /// );
+    /// ```
     pub fn parse_list(text: &str) -> Result<Vec<Initial>, PathError> {
         let parts: Vec<&str> = text.split(',').map(str::trim).collect();
         let mut out: Vec<Initial> = Vec::new();
@@ -139,7 +217,13 @@ impl Initial {
         Ok(out)
     }
 
-    /// A custom transient through the given load-plane points.
+    /// A custom transient `O -> points[0] -> ... -> A` through the given
+    /// load-plane points.
+    ///
+    /// # Errors
+    ///
+    /// [`PathError::NotFinite`] with the index of the first point that has a
+    /// NaN or infinite coordinate.
     pub fn custom(points: Vec<LoadPoint>) -> Result<Initial, PathError> {
         if let Some(index) = points
             .iter()
@@ -151,7 +235,9 @@ impl Initial {
     }
 
     /// Waypoints of the transient from the unloaded state to the cycle
-    /// centre `A` (inclusive), for the paths that start at `O`.
+    /// centre `A` (inclusive), for the paths that start at `O`: `[O, A]`,
+    /// `[O, I, A]` or `[O, p1, ..., pk, A]`. For [`Initial::Slip`] and
+    /// [`Initial::Optimal`], which start at `A`, it is `[A]` alone.
     pub fn waypoints_to(&self, center: LoadPoint) -> Vec<LoadPoint> {
         let mut w = vec![LoadPoint::ORIGIN];
         match self {
@@ -176,12 +262,19 @@ impl std::fmt::Display for Initial {
 /// One straight segment of a transient, cut into equal increments.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Segment {
+    /// Start of the segment in the load plane.
     pub from: LoadPoint,
+    /// End of the segment in the load plane.
     pub to: LoadPoint,
+    /// Number of equal increments, at least 1.
     pub increments: usize,
 }
 
 impl Segment {
+    /// The segment `from -> to`, cut into the fewest equal increments no
+    /// longer than `max_step` (at least one, even for a zero-length
+    /// segment); `max_step` is normally
+    /// [`crate::model::Discretisation::transient_step`].
     pub fn new(from: LoadPoint, to: LoadPoint, max_step: f64) -> Self {
         let increments = ((from.distance(to) / max_step).ceil() as usize).max(1);
         Self {
@@ -190,12 +283,16 @@ impl Segment {
             increments,
         }
     }
+    /// The load point at fraction `s` of the way, `from + s (to - from)`
+    /// (`s` in `[0, 1]` on the segment).
     pub fn at(&self, s: f64) -> LoadPoint {
         self.from.lerp(self.to, s)
     }
 }
 
-/// Straight segments through the waypoints, skipping zero-length ones.
+/// Straight segments through the waypoints, skipping zero-length ones
+/// (so that, e.g., the `A -> C` entry of an in-phase cycle, where `C = A`,
+/// gives no segment), each cut into increments no longer than `max_step`.
 pub fn segments(waypoints: &[LoadPoint], max_step: f64) -> Vec<Segment> {
     waypoints
         .windows(2)
@@ -204,14 +301,18 @@ pub fn segments(waypoints: &[LoadPoint], max_step: f64) -> Vec<Segment> {
         .collect()
 }
 
-/// The segment `A -> C` from the cycle centre to the cycle's `t = 0` point.
-/// For `phi = 0` it is empty (`C = A`). The paper does not say how the
-/// ellipse is entered; this straight segment is this project's convention.
+/// The waypoints `[A, C]` of the segment `A -> C` from the cycle centre to
+/// the cycle's `t = 0` point ([`Cycle::start`]). For `phi = 0` it is empty
+/// (`C = A`, and [`segments`] drops it). The paper does not say how the
+/// ellipse is entered; this straight segment is this project's convention
+/// (model.md section 5.3). It belongs to the transient: slip on it counts as
+/// slip after `A` for the stuck fraction `r` (model.md section 7.2).
 pub fn entry_waypoints(cycle: &Cycle) -> Vec<LoadPoint> {
     vec![cycle.center, cycle.start()]
 }
 
-/// The point of a stick-diamond check: `|x| + |y| <= 2 pi`.
+/// Whether `p` lies in the initial stick region `|x| + |y| <= 2 pi` (model.md
+/// section 2.3): a path from `O` that stays inside it causes no slip.
 pub fn inside_stick_diamond(p: LoadPoint) -> bool {
     p.diamond_norm() <= 2.0 * PI
 }
