@@ -276,7 +276,7 @@ impl std::fmt::Display for Shard {
 /// An output file that cannot be resumed.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum ResumeError {
-    #[error("it does not start with the header line '{expected}'")]
+    #[error("it does not start with this command's header (comment lines and then '{expected}')")]
     Header { expected: String },
     #[error("it is not UTF-8 text")]
     NotText,
@@ -289,8 +289,12 @@ pub enum ResumeError {
         found: String,
         expected: String,
     },
-    #[error("line {line} is not a complete row: '{text}'")]
-    Malformed { line: usize, text: String },
+    #[error("line {line} is not a valid row ({why}): '{text}'")]
+    Malformed {
+        line: usize,
+        why: String,
+        text: String,
+    },
     #[error("it has {found} rows, more than the {jobs} runs of this command")]
     TooMany { found: usize, jobs: usize },
 }
@@ -307,9 +311,11 @@ pub struct ResumePoint {
     pub has_header: bool,
 }
 
-/// Read an interrupted output: the header, then complete lines (ending in
-/// a newline) whose keys are `keys[0], keys[1], ...` in order. `key_of`
-/// extracts a line's key, or `None` for a malformed line. A last line
+/// Read an interrupted output: the header (which may span several lines,
+/// such as `# key = value` comment lines and the column names), then
+/// complete lines (ending in a newline) whose keys are `keys[0], keys[1],
+/// ...` in order. `key_of` validates a line and extracts its key, or says
+/// what is wrong with it. A last line
 /// without its newline was cut by the interruption and is dropped; any
 /// other mismatch is an error, so that a file from other flags is never
 /// overwritten.
@@ -317,8 +323,9 @@ pub fn resume_point<K: AsRef<str>>(
     content: &[u8],
     header: &str,
     keys: &[K],
-    key_of: impl Fn(&str) -> Option<&str>,
+    key_of: impl Fn(&str) -> Result<&str, String>,
 ) -> Result<ResumePoint, ResumeError> {
+    let header_lines = header.matches('\n').count() + 1;
     let text = std::str::from_utf8(content).or_else(|e| {
         // A multi-byte character cut at the very end is an interrupted
         // write; anything else is not our file.
@@ -338,7 +345,7 @@ pub fn resume_point<K: AsRef<str>>(
             });
         }
         return Err(ResumeError::Header {
-            expected: header.to_string(),
+            expected: header.lines().last().unwrap_or_default().to_string(),
         });
     }
     let mut bytes = header_line.len();
@@ -346,10 +353,11 @@ pub fn resume_point<K: AsRef<str>>(
     let mut rest = &text[bytes..];
     while let Some(end) = rest.find('\n') {
         let line = &rest[..end];
-        let number = kept + 2;
-        let key = key_of(line).ok_or_else(|| ResumeError::Malformed {
+        let number = kept + header_lines + 1;
+        let key = key_of(line).map_err(|why| ResumeError::Malformed {
             line: number,
-            text: line.chars().take(120).collect(),
+            why,
+            text: crate::io::read::escape_text(line, 120),
         })?;
         let Some(expected) = keys.get(kept) else {
             return Err(ResumeError::TooMany {
@@ -379,14 +387,15 @@ pub fn resume_point<K: AsRef<str>>(
 /// Shard outputs that do not merge into the full output.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum MergeError {
-    #[error("{file}: it does not start with the header line '{expected}'")]
+    #[error("{file}: it does not start with this command's header (comment lines and then '{expected}')")]
     Header { file: String, expected: String },
     #[error("{file}: it is not UTF-8 text")]
     NotText { file: String },
-    #[error("{file} line {line}: not a complete row: '{text}'")]
+    #[error("{file} line {line}: not a valid row ({why}): '{text}'")]
     Malformed {
         file: String,
         line: usize,
+        why: String,
         text: String,
     },
     #[error("{file} line {line}: {key} is not a run of these flags, or it appears twice")]
@@ -416,8 +425,9 @@ pub fn merge<K: AsRef<str>>(
     header: &str,
     keys: &[K],
     inputs: &[(String, Vec<u8>)],
-    key_of: impl Fn(&str) -> Option<&str>,
+    key_of: impl Fn(&str) -> Result<&str, String>,
 ) -> Result<String, MergeError> {
+    let header_lines = header.matches('\n').count() + 1;
     let mut slots: HashMap<&str, VecDeque<usize>> = HashMap::new();
     for (i, k) in keys.iter().enumerate() {
         slots.entry(k.as_ref()).or_default().push_back(i);
@@ -431,18 +441,19 @@ pub fn merge<K: AsRef<str>>(
             .strip_prefix(&header_line)
             .ok_or_else(|| MergeError::Header {
                 file: file.clone(),
-                expected: header.to_string(),
+                expected: header.lines().last().unwrap_or_default().to_string(),
             })?;
         // Only complete lines: split_inclusive keeps the newline.
         for (n, line) in body.split_inclusive('\n').enumerate() {
             let Some(line) = line.strip_suffix('\n') else {
                 break;
             };
-            let number = n + 2;
-            let key = key_of(line).ok_or_else(|| MergeError::Malformed {
+            let number = n + header_lines + 1;
+            let key = key_of(line).map_err(|why| MergeError::Malformed {
                 file: file.clone(),
                 line: number,
-                text: line.chars().take(120).collect(),
+                why,
+                text: crate::io::read::escape_text(line, 120),
             })?;
             let slot = slots
                 .get_mut(key)
@@ -477,8 +488,10 @@ mod tests {
     use super::*;
 
     /// Lines `key,value`; the key is the first field.
-    fn key_of(line: &str) -> Option<&str> {
-        line.split_once(',').map(|(k, _)| k)
+    fn key_of(line: &str) -> Result<&str, String> {
+        line.split_once(',')
+            .map(|(k, _)| k)
+            .ok_or_else(|| "no comma".to_string())
     }
 
     fn full(keys: &[&str]) -> String {
