@@ -42,6 +42,16 @@ pub fn lock_output(flag: &str, path: &Path) -> Result<OutputLock> {
     })
 }
 
+/// [`lock_output`] for an output that may be a device or FIFO
+/// (`/dev/stdout`): those are written in place and not locked.
+pub fn lock_file_output(flag: &str, path: &Path) -> Result<Option<OutputLock>> {
+    let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file());
+    if special {
+        return Ok(None);
+    }
+    lock_output(flag, path).map(Some)
+}
+
 /// Refuse an output that is one of the inputs (`(flag, path)` pairs): it
 /// would be destroyed before it is read.
 pub fn refuse_input_as_output(flag: &str, out: &Path, inputs: &[(&str, &Path)]) -> Result<()> {

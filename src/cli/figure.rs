@@ -24,7 +24,6 @@ use shakedown::io::csv::{case_metadata, slip_csv, sweep_metadata};
 use shakedown::io::output::{check_file_stem, is_nonempty_file, temp_path};
 
 use super::batch::{ctrl_c, lock_output, refuse_input_as_output, write_file, Output};
-use super::outln;
 use super::sweep::{job_key, progress, row_key, spec, warn_failures, ListArgs};
 use super::{load_preset, InputError, ModelArgs};
 
@@ -356,7 +355,10 @@ fn describe(map: &SlipMap) -> Result<()> {
     let s = &map.summary;
     outln!(
         "steady state: {} after {} cycles, W = {:.6e}, rotation {:.3e} per cycle",
-        s.state, s.cycles, s.dissipation, s.rotation_per_cycle
+        s.state,
+        s.cycles,
+        s.dissipation,
+        s.rotation_per_cycle
     );
     Ok(())
 }

@@ -15,8 +15,8 @@ use shakedown::io::csv::slip_csv;
 use shakedown::io::output::{check_folder, is_nonempty_file};
 use shakedown::model::{LoadPoint, Material};
 
-use super::batch::{lock_output, print_stdout, refuse_input_as_output, write_file};
-use super::{case_error, outln, CaseArgs, InputError};
+use super::batch::{lock_file_output, print_stdout, refuse_input_as_output, write_file};
+use super::{case_error, CaseArgs, InputError};
 
 /// The flags of `shakedown limit`.
 #[derive(Debug, Args)]
@@ -65,10 +65,11 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
     params.initial = "OA".into();
     let case = Case::from_params(&params).map_err(|e| case_error(e, |f| args.case.given(f)))?;
     let samples = match &args.samples {
-        Some(t) => t
-            .trim()
-            .parse::<usize>()
-            .map_err(|_| anyhow!(InputError(format!("--samples {t}: not a whole number: expected 3 to 4096"))))?,
+        Some(t) => t.trim().parse::<usize>().map_err(|_| {
+            anyhow!(InputError(format!(
+                "--samples {t}: not a whole number: expected 3 to 4096"
+            )))
+        })?,
         None => DEFAULT_SAMPLES,
     };
     // Refuse a bad output before the work, and hold it against a second writer.
@@ -89,15 +90,14 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
                     out.display()
                 )))
             })?;
-            let special = std::fs::metadata(out).is_ok_and(|m| !m.is_file());
-            (!special).then(|| lock_output("--out", out)).transpose()?
+            lock_file_output("--out", out)?
         }
         None => None,
     };
     let (material, center) = (case.material, case.cycle.center);
     let (slope, phase) = (case.cycle.slope, case.cycle.phase);
-    let limit = shakedown_limit(&material, center, slope, phase, &case.disc, samples)
-        .map_err(classify)?;
+    let limit =
+        shakedown_limit(&material, center, slope, phase, &case.disc, samples).map_err(classify)?;
     // Convergence in the sample count (a line has nothing to converge).
     let convergence =
         sample_convergence(&material, center, slope, phase, &case.disc, samples, &limit)

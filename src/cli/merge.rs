@@ -15,7 +15,7 @@ use shakedown::io::csv::{check_preamble, sweep_metadata};
 use shakedown::io::output::is_nonempty_file;
 use shakedown::io::read::read_capped;
 
-use super::batch::{lock_output, print_stdout, refuse_input_as_output, write_file};
+use super::batch::{lock_file_output, print_stdout, refuse_input_as_output, write_file};
 use super::sweep::{grid_spec, job_key, row_key, GridArgs, HEADER};
 use super::InputError;
 
@@ -57,7 +57,12 @@ pub fn merge(args: MergeArgs) -> Result<ExitCode> {
                 .files
                 .iter()
                 .map(|f| ("input", f.as_path()))
-                .chain(args.grid.preset.as_deref().map(|p| ("--preset file", Path::new(p))))
+                .chain(
+                    args.grid
+                        .preset
+                        .as_deref()
+                        .map(|p| ("--preset file", Path::new(p))),
+                )
                 .collect();
             refuse_input_as_output("--out", out, &inputs)?;
             if !args.force && is_nonempty_file(out) {
@@ -66,7 +71,7 @@ pub fn merge(args: MergeArgs) -> Result<ExitCode> {
                     out.display()
                 ))));
             }
-            Some(lock_output("--out", out)?)
+            lock_file_output("--out", out)?
         }
         None => None,
     };

@@ -11,7 +11,6 @@ macro_rules! outln {
         $crate::cli::batch::print_stdout(&format!("{}\n", format_args!($($arg)*)))?
     };
 }
-pub(crate) use outln;
 
 pub mod batch;
 mod figure;
@@ -333,7 +332,8 @@ pub fn warn_if_slow(nodes: usize, steps: usize) {
 pub fn initial_slip(path: &str, nodes: usize) -> Result<shakedown::model::Initial> {
     use shakedown::io::read::{escape_text, read_text_capped, MAX_PRESET_BYTES};
     let shown = escape_text(path, 200);
-    let bad = |e: &dyn std::fmt::Display| anyhow!(InputError(format!("--initial-slip {shown}: {e}")));
+    let bad =
+        |e: &dyn std::fmt::Display| anyhow!(InputError(format!("--initial-slip {shown}: {e}")));
     let text =
         read_text_capped(std::path::Path::new(path), MAX_PRESET_BYTES).map_err(|e| bad(&e))?;
     let slip = shakedown::io::csv::read_slip_csv(&text, nodes).map_err(|e| bad(&e))?;
@@ -343,7 +343,13 @@ pub fn initial_slip(path: &str, nodes: usize) -> Result<shakedown::model::Initia
         .unwrap_or_default();
     let stem: String = stem
         .chars()
-        .map(|c| if c == '"' || c == ',' || c.is_control() { '_' } else { c })
+        .map(|c| {
+            if c == '"' || c == ',' || c.is_control() {
+                '_'
+            } else {
+                c
+            }
+        })
         .collect();
     Ok(shakedown::model::Initial::Slip {
         name: format!("slip:{stem}"),

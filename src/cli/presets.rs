@@ -4,8 +4,6 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 
-use super::outln;
-
 /// Run `shakedown presets`.
 pub fn presets() -> Result<ExitCode> {
     let all = shakedown::io::preset::builtin();

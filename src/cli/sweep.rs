@@ -10,8 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use shakedown::analysis::case::{Case, CaseError, CaseParams};
 use shakedown::analysis::sweep::SweepLists;
 use shakedown::analysis::sweep::{Job, Row, SweepSpec, MAX_RUNS};
-use shakedown::io::csv::sweep_metadata;
 use shakedown::io::batch::Shard;
+use shakedown::io::csv::sweep_metadata;
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::model::path::Initial;
 

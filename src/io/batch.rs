@@ -42,6 +42,7 @@ pub struct Interrupt {
 }
 
 impl Interrupt {
+    /// No request yet.
     pub const fn new() -> Self {
         Self {
             requests: AtomicU8::new(0),
@@ -68,6 +69,7 @@ impl Interrupt {
         self.requests.fetch_max(want, Ordering::SeqCst);
     }
 
+    /// How far the batch has been asked to stop.
     pub fn level(&self) -> StopLevel {
         match self.requests.load(Ordering::SeqCst) {
             0 => StopLevel::Running,
@@ -111,6 +113,7 @@ pub struct Progress {
 }
 
 impl Progress {
+    /// Every job was delivered.
     pub fn is_complete(&self) -> bool {
         self.delivered == self.total
     }
@@ -201,13 +204,20 @@ where
 /// A bad `K/N` shard.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum ShardError {
+    /// Not `K/N`.
     #[error("'{0}' is not a shard: expected K/N with whole numbers 1 <= K <= N (e.g. 3/16)")]
     Syntax(String),
     #[error(
         "shard {index}/{count} is out of range: expected K/N with 1 <= K <= N <= {max}",
         max = Shard::MAX_COUNT
     )]
-    OutOfRange { index: usize, count: usize },
+    /// `K` or `N` out of range.
+    OutOfRange {
+        /// `K`.
+        index: usize,
+        /// `N`.
+        count: usize,
+    },
 }
 
 /// The `K`-th of `N` disjoint slices of a job list (`1 <= K <= N`).
@@ -227,6 +237,11 @@ impl Shard {
     /// Largest number of shards (any batch system's array limit is lower).
     pub const MAX_COUNT: usize = 1_000_000;
 
+    /// The `index`-th of `count` slices.
+    ///
+    /// # Errors
+    ///
+    /// [`ShardError::OutOfRange`] unless `1 <= index <= count <= MAX_COUNT`.
     pub fn new(index: usize, count: usize) -> Result<Self, ShardError> {
         if index == 0 || index > count || count > Self::MAX_COUNT {
             return Err(ShardError::OutOfRange { index, count });
@@ -276,27 +291,47 @@ impl std::fmt::Display for Shard {
 /// An output file that cannot be resumed.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum ResumeError {
+    /// The header differs.
     #[error("it does not start with this command's header (comment lines and then '{expected}')")]
-    Header { expected: String },
+    Header {
+        /// The expected column header.
+        expected: String,
+    },
+    /// Not text.
     #[error("it is not UTF-8 text")]
     NotText,
+    /// A row of another job.
     #[error(
         "line {line} is for {found}, but this command's run number {run} is {expected}: the file comes from different flags"
     )]
     Mismatch {
+        /// 1-based line number.
         line: usize,
+        /// 1-based run number.
         run: usize,
+        /// The row's key.
         found: String,
+        /// The job's key.
         expected: String,
     },
+    /// A row that does not validate.
     #[error("line {line} is not a valid row ({why}): '{text}'")]
     Malformed {
+        /// 1-based line number.
         line: usize,
+        /// What is wrong.
         why: String,
+        /// The line, escaped.
         text: String,
     },
+    /// More rows than jobs.
     #[error("it has {found} rows, more than the {jobs} runs of this command")]
-    TooMany { found: usize, jobs: usize },
+    TooMany {
+        /// Rows found.
+        found: usize,
+        /// Jobs of the command.
+        jobs: usize,
+    },
 }
 
 /// Where an interrupted output file resumes.
@@ -387,29 +422,52 @@ pub fn resume_point<K: AsRef<str>>(
 /// Shard outputs that do not merge into the full output.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum MergeError {
+    /// An input's header differs.
     #[error("{file}: it does not start with this command's header (comment lines and then '{expected}')")]
-    Header { file: String, expected: String },
+    Header {
+        /// The input.
+        file: String,
+        /// The expected column header.
+        expected: String,
+    },
+    /// An input is not text.
     #[error("{file}: it is not UTF-8 text")]
-    NotText { file: String },
+    NotText {
+        /// The input.
+        file: String,
+    },
+    /// A row that does not validate.
     #[error("{file} line {line}: not a valid row ({why}): '{text}'")]
     Malformed {
+        /// The input.
         file: String,
+        /// 1-based line number.
         line: usize,
+        /// What is wrong.
         why: String,
+        /// The line, escaped.
         text: String,
     },
+    /// A row of no job, or of a job already found.
     #[error("{file} line {line}: {key} is not a run of these flags, or it appears twice")]
     Unexpected {
+        /// The input.
         file: String,
+        /// 1-based line number.
         line: usize,
+        /// The row's key.
         key: String,
     },
+    /// Jobs in no input.
     #[error(
         "{missing} of {total} runs are in none of the files (the first is {first}): finish every shard (sweep --shard K/N --resume) and merge again"
     )]
     Missing {
+        /// Jobs missing.
         missing: usize,
+        /// Jobs in all.
         total: usize,
+        /// The first missing job's key.
         first: String,
     },
 }

@@ -54,7 +54,7 @@ pub enum MetadataError {
         key: String,
     },
     /// Not a file of this tool.
-    #[error("it does not start with '# shakedown = <version>': not a shakedown output")]
+    #[error("its header does not start with '# shakedown = <version>': it is not an output of shakedown")]
     Foreign,
 }
 
@@ -298,7 +298,10 @@ pub enum SlipFileError {
 ///
 /// [`SlipFileError`]: no header, a bad row, or another node count.
 pub fn read_slip_csv(text: &str, nodes: usize) -> Result<Vec<f64>, SlipFileError> {
-    let mut lines = text.lines().enumerate().skip_while(|(_, l)| l.starts_with('#'));
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .skip_while(|(_, l)| l.starts_with('#'));
     match lines.next() {
         Some((_, h)) if h.trim() == SLIP_HEADER => {}
         _ => return Err(SlipFileError::Header),
@@ -313,8 +316,13 @@ pub fn read_slip_csv(text: &str, nodes: usize) -> Result<Vec<f64>, SlipFileError
         if slip.len() > nodes {
             break;
         }
-        let (theta, g) = line.split_once(',').ok_or_else(|| bad("expected theta,g"))?;
-        let theta: f64 = theta.trim().parse().map_err(|_| bad("theta is not a number"))?;
+        let (theta, g) = line
+            .split_once(',')
+            .ok_or_else(|| bad("expected theta,g"))?;
+        let theta: f64 = theta
+            .trim()
+            .parse()
+            .map_err(|_| bad("theta is not a number"))?;
         let g: f64 = g.trim().parse().map_err(|_| bad("g is not a number"))?;
         if !theta.is_finite() || !g.is_finite() {
             return Err(bad("not a finite number"));
@@ -366,10 +374,7 @@ fn fields(line: &str) -> Vec<&str> {
 pub fn sweep_row_key(line: &str) -> Result<&str, String> {
     let f = fields(line);
     if f.len() != 7 {
-        return Err(format!(
-            "{} fields, expected 7 ({CSV_HEADER})",
-            f.len()
-        ));
+        return Err(format!("{} fields, expected 7 ({CSV_HEADER})", f.len()));
     }
     let finite = |name: &str, v: &str| -> Result<f64, String> {
         v.parse::<f64>()
@@ -407,12 +412,8 @@ pub fn sweep_row_key(line: &str) -> Result<&str, String> {
         }
     };
     number("dissipation", f[4])?;
-    f[5].parse::<u64>().map_err(|_| {
-        format!(
-            "cycles '{}' is not a whole number",
-            escape_text(f[5], 40)
-        )
-    })?;
+    f[5].parse::<u64>()
+        .map_err(|_| format!("cycles '{}' is not a whole number", escape_text(f[5], 40)))?;
     number("rotation_per_cycle", f[6])?;
     let key_len = f[0].len() + f[1].len() + f[2].len() + 2;
     Ok(&line[..key_len])

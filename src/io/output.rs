@@ -200,7 +200,10 @@ impl OutputLock {
             let _ = writeln!(lock.file, "{}", std::process::id());
             return Ok(lock);
         }
-        Err(LockError::Busy { lock: path, pid: None })
+        Err(LockError::Busy {
+            lock: path,
+            pid: None,
+        })
     }
 
     /// The lock file.
@@ -341,7 +344,9 @@ mod tests {
 
     #[test]
     fn file_stems_stay_in_their_folder() {
-        for bad in ["", "../x", "/etc/x", "a/b", "a\\b", "..", ".hidden", "a\u{1b}b", "c:x"] {
+        for bad in [
+            "", "../x", "/etc/x", "a/b", "a\\b", "..", ".hidden", "a\u{1b}b", "c:x",
+        ] {
             assert!(check_file_stem(bad).is_err(), "{bad:?}");
         }
         for good in ["fig3", "my-map_2", "Fig 3 (draft)"] {

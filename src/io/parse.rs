@@ -171,7 +171,9 @@ mod tests {
         assert!(close(parse_angle("PI").unwrap(), PI));
         assert!(close(parse_angle("1.25").unwrap(), 1.25));
         assert!(close(parse_angle(" -pi ").unwrap(), -PI));
-        for bad in ["abc", "", "pi/0", "2pi3", "nan", "inf", "pipi", "1e999", "*pi", "-*pi"] {
+        for bad in [
+            "abc", "", "pi/0", "2pi3", "nan", "inf", "pipi", "1e999", "*pi", "-*pi",
+        ] {
             assert!(parse_angle(bad).is_err(), "{bad}");
         }
     }
