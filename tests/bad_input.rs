@@ -767,7 +767,7 @@ fn issue11_11_files_are_read_through_a_cap_and_only_if_regular() {
         .arg(&fifo)
         .status()
         .map(|s| s.success());
-    if made == Ok(true) {
+    if made.is_ok_and(|ok| ok) {
         rejected_untouched(
             &dir,
             &["run", "--preset", fifo.to_str().unwrap()],

@@ -180,14 +180,14 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             if !result?.is_complete() {
                 if csv_path != file(".csv") {
                     let _ = std::fs::remove_file(&csv_path);
-                    eoutln!(
+                    eprintln!(
                         "interrupted: {} of {} runs were done; the figure made before is unchanged",
                         rows.len(),
                         jobs.len()
                     );
                     return Ok(ExitCode::from(super::batch::INTERRUPTED));
                 }
-                eoutln!(
+                eprintln!(
                     "interrupted: {} of {} runs are in {} (complete rows only); no plot was drawn",
                     rows.len(),
                     jobs.len(),
