@@ -81,7 +81,6 @@ fn write_plot<D: shakedown::figure::draw::Drawing>(plot: &D, svg: &Path, png: &P
 }
 
 /// Run `shakedown figure`.
-
 pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     let preset = load_preset("figure", &args.name)?;
     let Some(fig) = preset.figure.clone() else {
