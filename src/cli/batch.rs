@@ -196,6 +196,11 @@ impl Output {
         // Devices and FIFOs (/dev/stdout, /dev/null) are written in place
         // and never locked or resumed.
         let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir());
+        if resume && special {
+            return Err(anyhow!(InputError(format!(
+                "--resume --out {shown}: cannot resume it: it is not a regular file (a FIFO or device): expected a file"
+            ))));
+        }
         let lock = if special || path.is_dir() {
             None
         } else {
