@@ -394,9 +394,12 @@ fn snapshot(dir: &std::path::Path) -> std::collections::BTreeMap<PathBuf, Vec<u8
     if let Ok(entries) = std::fs::read_dir(dir) {
         for e in entries.flatten() {
             let p = e.path();
-            if p.is_dir() {
+            let Ok(meta) = std::fs::metadata(&p) else {
+                continue;
+            };
+            if meta.is_dir() {
                 out.extend(snapshot(&p));
-            } else {
+            } else if meta.is_file() {
                 out.insert(p.clone(), std::fs::read(&p).unwrap_or_default());
             }
         }
