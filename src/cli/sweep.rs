@@ -101,7 +101,6 @@ pub fn spec(
     preset: Option<&SweepLists>,
 ) -> Result<SweepSpec> {
     let mut params = model.apply(base)?;
-    super::warn_if_slow(params.nodes, params.steps);
     let lambdas = match (&lists.lambdas, preset) {
         (Some(t), _) => parse_values(t, parse_number).map_err(|e| bad_flag("lambda", t, e))?,
         (None, Some(p)) => p.load_factors.clone(),
@@ -134,6 +133,8 @@ pub fn spec(
     // The initial paths are already resolved; validate the rest.
     params.initial = "OA".into();
     let case = Case::from_params(&params).map_err(|e| case_error(e, given))?;
+    // Only a valid case is worth a warning about its cost.
+    super::warn_if_slow(params.nodes, params.steps);
     let lists = SweepLists {
         load_factors: lambdas,
         phases: phis,
