@@ -190,11 +190,7 @@ fn unwritable_output_file() {
         &["--out", "writable file"],
     );
     let shard = dir.join("s.csv");
-    std::fs::write(
-        &shard,
-        "lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle\n7,0,\"OA\",shakedown,0,1,0\n",
-    )
-    .unwrap();
+    std::fs::write(&shard, "").unwrap();
     rejected(
         &["merge", shard.to_str().unwrap(), "--out", missing],
         &["--out", "writable file"],
@@ -227,21 +223,37 @@ fn resume_needs_a_file_of_the_same_sweep() {
         std::fs::read_to_string(&foreign).unwrap(),
         "these are my notes\n"
     );
-    // Rows of another grid.
-    let header = "lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle";
+    // A file of another grid: the header names the differing key.
     let other = dir.join("other.csv");
-    std::fs::write(&other, format!("{header}\n2,0,\"OA\",shakedown,0,1,0\n")).unwrap();
+    let made = shakedown(&[
+        "sweep",
+        "--lambda",
+        "2",
+        "--nodes",
+        "16",
+        "--steps",
+        "32",
+        "--out",
+        other.to_str().unwrap(),
+    ]);
+    assert!(made.status.success());
+    let before = std::fs::read(&other).unwrap();
     rejected(
         &[
             "sweep",
             "--lambda",
             "3",
+            "--nodes",
+            "16",
+            "--steps",
+            "32",
             "--resume",
             "--out",
             other.to_str().unwrap(),
         ],
-        &["--out", "different flags"],
+        &["--out", "lambda = 2", "lambda = 3"],
     );
+    assert_eq!(std::fs::read(&other).unwrap(), before);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -251,15 +263,32 @@ fn merge_of_missing_or_incomplete_shards() {
     let missing = dir.join("missing.csv");
     let m = missing.to_str().unwrap();
     rejected(&["merge", m], &[m, "cannot read"]);
-    let header = "lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle";
     let part = dir.join("part.csv");
-    std::fs::write(&part, format!("{header}\n1,0,\"OA\",shakedown,0,1,0\n")).unwrap();
+    let grid = ["--lambda", "1,2", "--nodes", "16", "--steps", "32"];
+    let made = shakedown(
+        &[
+            &["sweep", "--shard", "1/2", "--out", part.to_str().unwrap()][..],
+            &grid,
+        ]
+        .concat(),
+    );
+    assert!(made.status.success());
     let p = part.to_str().unwrap();
+    let first_row = std::fs::read_to_string(&part)
+        .unwrap()
+        .lines()
+        .position(|l| l.starts_with("1,0,"))
+        .unwrap()
+        + 1;
     rejected(
-        &["merge", p, "--lambda", "1,2"],
+        &[&["merge", p][..], &grid].concat(),
         &["1 of 2 runs", "2,0,\"OA\""],
     );
-    rejected(&["merge", p, p, "--lambda", "1,2"], &[p, "line 2", "twice"]);
+    let line = format!("line {first_row}");
+    rejected(
+        &[&["merge", p, p][..], &grid].concat(),
+        &[p, &line, "twice"],
+    );
     let bad = dir.join("bad.csv");
     std::fs::write(&bad, "x,y\n").unwrap();
     let b = bad.to_str().unwrap();
@@ -337,4 +366,611 @@ fn tui_without_a_terminal() {
     rejected(&[], &["terminal", "stdin", "stdout"]);
     // Bad flags are still reported first, as bad flags.
     rejected(&["tui", "--nodes", "7"], &["--nodes 7", "16 to 4096"]);
+}
+
+// ---------------------------------------------------------------------
+// Issue 11: batch output never mixes, destroys or loses results. Each
+// case checks the exit status, the one-line message and that no file
+// changed.
+// ---------------------------------------------------------------------
+
+/// A quick grid: 2 runs.
+const QUICK: &[&str] = &[
+    "--lambda",
+    "3,4",
+    "--initial",
+    "OA",
+    "--nodes",
+    "16",
+    "--steps",
+    "32",
+    "--max-cycles",
+    "40",
+];
+
+/// Every file under `dir` with its bytes.
+fn snapshot(dir: &std::path::Path) -> std::collections::BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = std::collections::BTreeMap::new();
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        for e in entries.flatten() {
+            let p = e.path();
+            let Ok(meta) = std::fs::metadata(&p) else {
+                continue;
+            };
+            if meta.is_dir() {
+                out.extend(snapshot(&p));
+            } else if meta.is_file() {
+                out.insert(p.clone(), std::fs::read(&p).unwrap_or_default());
+            }
+        }
+    }
+    out
+}
+
+/// `rejected`, and nothing under `dir` changed.
+#[track_caller]
+fn rejected_untouched(dir: &std::path::Path, args: &[&str], names: &[&str]) -> String {
+    let before = snapshot(dir);
+    let line = rejected(args, names);
+    assert_eq!(snapshot(dir), before, "{args:?} changed a file");
+    line
+}
+
+/// Exit status 1 (an environment failure) with one `error:` line naming
+/// every piece of `names`.
+#[track_caller]
+fn failed(args: &[&str], names: &[&str]) -> String {
+    let out = shakedown(args);
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error")).collect();
+    assert_eq!(errors.len(), 1, "{args:?}: {stderr}");
+    for name in names {
+        assert!(errors[0].contains(name), "'{name}' missing: {}", errors[0]);
+    }
+    errors[0].to_string()
+}
+
+fn args_with<'a>(head: &[&'a str], tail: &[&'a str]) -> Vec<&'a str> {
+    [head, tail].concat()
+}
+
+/// A finished quick sweep in `dir/name`, with `extra` flags.
+fn quick_sweep(dir: &std::path::Path, name: &str, extra: &[&str]) -> PathBuf {
+    let path = dir.join(name);
+    let mut args = args_with(&["sweep"], QUICK);
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["--out", path.to_str().unwrap()]);
+    let out = shakedown(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    path
+}
+
+fn cut_last_row(path: &std::path::Path) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let keep = text.trim_end().rfind('\n').unwrap() + 1;
+    std::fs::write(path, &text[..keep]).unwrap();
+}
+
+#[test]
+fn issue11_01_resume_refuses_another_model() {
+    let dir = temp_dir("i11-01");
+    let f = quick_sweep(&dir, "f.csv", &[]);
+    cut_last_row(&f);
+    let p = f.to_str().unwrap();
+    let mut args = args_with(&["sweep"], QUICK);
+    args.extend_from_slice(&["--friction", "0.2", "--resume", "--out", p]);
+    rejected_untouched(&dir, &args, &[p, "friction = 0.2"]);
+    let mut args = args_with(&["sweep"], QUICK);
+    args.extend_from_slice(&["--plane", "stress", "--resume", "--out", p]);
+    rejected_untouched(&dir, &args, &[p, "plane = stress"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn issue11_02_merge_refuses_shards_of_another_model() {
+    let dir = temp_dir("i11-02");
+    let a = quick_sweep(&dir, "a.csv", &["--shard", "1/2"]);
+    let b = quick_sweep(&dir, "b.csv", &["--shard", "2/2", "--friction", "0.2"]);
+    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
+    let out = dir.join("m.csv");
+    let mut args = args_with(&["merge", a, b], QUICK);
+    args.extend_from_slice(&["--out", out.to_str().unwrap()]);
+    rejected_untouched(&dir, &args, &[b, "friction"]);
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn issue11_03_a_corrupt_row_is_refused_by_resume_and_merge() {
+    let dir = temp_dir("i11-03");
+    let f = quick_sweep(&dir, "f.csv", &[]);
+    let text = std::fs::read_to_string(&f).unwrap();
+    let comments = text.lines().filter(|l| l.starts_with('#')).count();
+    let mut lines: Vec<&str> = text.lines().collect();
+    let bad_line = comments + 2; // 1-based: the first row
+    lines[bad_line - 1] = "3,0,\"7,-7\",GARBAGE,xx,yy,zz";
+    std::fs::write(&f, lines.join("\n") + "\n").unwrap();
+    let p = f.to_str().unwrap();
+    let line = format!("line {bad_line}");
+    let mut args = args_with(&["sweep"], QUICK);
+    args.extend_from_slice(&["--resume", "--out", p]);
+    rejected_untouched(&dir, &args, &[p, &line, "GARBAGE"]);
+    let args = args_with(&["merge", p], QUICK);
+    rejected_untouched(&dir, &args, &[p, &line, "GARBAGE"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn issue11_04_an_existing_output_is_not_truncated() {
+    let dir = temp_dir("i11-04");
+    let f = quick_sweep(&dir, "f.csv", &[]);
+    let p = f.to_str().unwrap();
+    let mut args = args_with(&["sweep"], QUICK);
+    args.extend_from_slice(&["--out", p]);
+    rejected_untouched(&dir, &args, &[p, "--resume", "--force"]);
+    // --force replaces it (same flags, same bytes).
+    let before = std::fs::read(&f).unwrap();
+    args.push("--force");
+    assert!(shakedown(&args).status.success());
+    assert_eq!(std::fs::read(&f).unwrap(), before);
+    // A preset is never its own output.
+    let preset = dir.join("my.toml");
+    std::fs::write(&preset, "description = \"d\"\n[sweep]\nlambda = [3]\n").unwrap();
+    let pr = preset.to_str().unwrap();
+    rejected_untouched(
+        &dir,
+        &["sweep", "--preset", pr, "--out", pr, "--force"],
+        &["--out", "preset"],
+    );
+    // A figure made before is refused as a whole set.
+    let figdir = dir.join("fig");
+    std::fs::create_dir_all(&figdir).unwrap();
+    std::fs::write(figdir.join("fig3.csv"), "my finished map\n").unwrap();
+    rejected_untouched(
+        &dir,
+        &[
+            "figure",
+            "fig3",
+            "--out",
+            figdir.to_str().unwrap(),
+            "--lambda",
+            "4",
+        ],
+        &["fig3.csv", "--force"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn issue11_05_merge_onto_its_own_input_is_refused() {
+    let dir = temp_dir("i11-05");
+    let f = quick_sweep(&dir, "f.csv", &[]);
+    let p = f.to_str().unwrap();
+    let mut args = args_with(&["merge", p], QUICK);
+    args.extend_from_slice(&["--out", p, "--force"]);
+    rejected_untouched(&dir, &args, &["--out", p, "input"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn issue11_06_a_second_writer_is_refused() {
+    let dir = temp_dir("i11-06");
+    let f = dir.join("map.csv");
+    let p = f.to_str().unwrap();
+    let mut first = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args([
+            "sweep",
+            "--lambda",
+            "3:7.4:0.1",
+            "--initial",
+            "all",
+            "--nodes",
+            "32",
+            "--steps",
+            "64",
+            "--out",
+            p,
+        ])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let lock = dir.join("map.csv.lock");
+    let start = std::time::Instant::now();
+    while std::fs::read_to_string(&lock).map_or(true, |t| t.trim().is_empty()) {
+        assert!(start.elapsed().as_secs() < 30, "no lock appears");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let mut args = args_with(&["sweep"], QUICK);
+    args.extend_from_slice(&["--out", p, "--force"]);
+    let line = rejected(&args, &[p, "map.csv.lock", "another process"]);
+    assert!(line.contains(&first.id().to_string()), "{line}");
+    let _ = first.kill();
+    let _ = first.wait();
+    // The lock dies with its holder, even killed: the next writer may go.
+    let mut args = args_with(&["sweep"], QUICK);
+    args.extend_from_slice(&["--out", p, "--force"]);
+    assert!(shakedown(&args).status.success());
+    assert!(!lock.exists(), "the lock file is removed on exit");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn issue11_07_a_preset_name_cannot_leave_the_output_folder() {
+    let dir = temp_dir("i11-07");
+    for name in ["../x", "/tmp/x", "a/b", "..", "x\u{1b}[2J"] {
+        let preset = dir.join("evil.toml");
+        std::fs::write(
+            &preset,
+            format!(
+                "name = \"{}\"\ndescription = \"d\"\n[sweep]\nlambda = [3]\n[figure]\nkind = \"dissipation\"\n",
+                name.replace('\u{1b}', "\\u001B")
+            ),
+        )
+        .unwrap();
+        let out = dir.join("out");
+        let line = rejected_untouched(
+            &dir,
+            &[
+                "figure",
+                preset.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            &["name"],
+        );
+        assert!(!line.contains('\u{1b}'), "{line}");
+        assert!(!dir.join("x.csv").exists() && !std::path::Path::new("/tmp/x.csv").exists());
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn issue11_08_limit_writes_only_with_out_and_refuses_unused_flags() {
+    let dir = temp_dir("i11-08");
+    let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args(["limit", "--nodes", "16"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert!(snapshot(&dir).is_empty(), "limit wrote a file unasked");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(!text.contains("use it with --initial optimal"), "{text}");
+    for (flag, v) in [
+        ("--lambda", "5"),
+        ("--initial", "OA"),
+        ("--max-cycles", "3"),
+    ] {
+        rejected_untouched(&dir, &["limit", flag, v], &[flag, "limit does not use it"]);
+    }
+    // Its file is read back by --initial-slip, checked against --nodes.
+    let g = dir.join("g.csv");
+    let gs = g.to_str().unwrap();
+    assert!(shakedown(&["limit", "--nodes", "16", "--out", gs])
+        .status
+        .success());
+    let text = std::fs::read_to_string(&g).unwrap();
+    assert!(text.starts_with("# shakedown = ") && text.contains("\n# table = optimal-slip\n"));
+    let run = shakedown(&[
+        "run",
+        "--nodes",
+        "16",
+        "--steps",
+        "32",
+        "--lambda",
+        "3",
+        "--initial-slip",
+        gs,
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    rejected_untouched(
+        &dir,
+        &["run", "--nodes", "32", "--initial-slip", gs],
+        &["--initial-slip", "16 nodes", "--nodes 32"],
+    );
+    std::fs::write(dir.join("nan.csv"), "theta,g\n0,NaN\n").unwrap();
+    let nan = dir.join("nan.csv");
+    rejected_untouched(
+        &dir,
+        &[
+            "sweep",
+            "--nodes",
+            "16",
+            "--initial-slip",
+            nan.to_str().unwrap(),
+        ],
+        &["--initial-slip", "line 2", "finite"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn issue11_09_limit_ends_at_every_accepted_sample_count() {
+    for m in 3..=8 {
+        let m = m.to_string();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+            .args(["limit", "--phi", "pi/2", "--samples", &m, "--nodes", "16"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let start = std::time::Instant::now();
+        let status = loop {
+            if let Some(s) = child.try_wait().unwrap() {
+                break s;
+            }
+            if start.elapsed().as_secs() > 30 {
+                let _ = child.kill();
+                panic!("limit --samples {m} does not end");
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        };
+        assert!(status.success(), "--samples {m}");
+    }
+}
+
+#[test]
+fn issue11_10_grids_and_preset_arrays_are_capped() {
+    let dir = temp_dir("i11-10");
+    rejected_untouched(
+        &dir,
+        &[
+            "sweep",
+            "--lambda",
+            "0:99.99:0.01",
+            "--phi",
+            "0:9.99:0.01",
+            "--initial",
+            "all",
+        ],
+        &["10000000", "250000000 runs"],
+    );
+    let many = vec!["3"; 100_001];
+    let preset = dir.join("big.toml");
+    std::fs::write(
+        &preset,
+        format!(
+            "description = \"d\"\n[sweep]\nlambda = [{}]\n",
+            many.join(",")
+        ),
+    )
+    .unwrap();
+    rejected_untouched(
+        &dir,
+        &["sweep", "--preset", preset.to_str().unwrap()],
+        &["big.toml", "at most 100000"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn issue11_11_files_are_read_through_a_cap_and_only_if_regular() {
+    let dir = temp_dir("i11-11");
+    rejected_untouched(
+        &dir,
+        &["run", "--preset", "/dev/zero"],
+        &["/dev/zero", "not a regular file"],
+    );
+    let fifo = dir.join("p.toml");
+    let made = Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .map(|s| s.success());
+    if made.is_ok_and(|ok| ok) {
+        rejected_untouched(
+            &dir,
+            &["run", "--preset", fifo.to_str().unwrap()],
+            &["p.toml", "not a regular file"],
+        );
+        std::fs::remove_file(&fifo).unwrap();
+    }
+    let big = dir.join("big.toml");
+    std::fs::write(&big, vec![b'#'; 2 << 20]).unwrap();
+    rejected_untouched(
+        &dir,
+        &["run", "--preset", big.to_str().unwrap()],
+        &["big.toml", "larger than"],
+    );
+    let mut args = args_with(&["sweep"], QUICK);
+    args.extend_from_slice(&["--resume", "--out", "/dev/zero"]);
+    rejected(&args, &["/dev/zero"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `sh -c script`: status and stderr.
+fn shell(script: &str) -> (Option<i32>, String) {
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(script)
+        .env("SHAKEDOWN", env!("CARGO_BIN_EXE_shakedown"))
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).to_string(),
+    )
+}
+
+/// Run `args` with stdout a pipe whose reader reads `lines` lines and
+/// closes it; the status and stderr.
+fn closed_pipe(args: &[&str], lines: usize) -> (Option<i32>, String) {
+    use std::io::{BufRead, BufReader, Read};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut reader = BufReader::new(child.stdout.take().unwrap());
+    for _ in 0..lines {
+        let mut line = String::new();
+        let _ = reader.read_line(&mut line);
+    }
+    drop(reader);
+    let mut stderr = String::new();
+    let _ = child.stderr.take().unwrap().read_to_string(&mut stderr);
+    (child.wait().unwrap().code(), stderr)
+}
+
+#[test]
+fn issue11_12_a_closed_pipe_ends_quietly() {
+    let dir = temp_dir("i11-12");
+    let f = dir.join("f");
+    let f = f.to_str().unwrap();
+    let cases: [(&[&str], usize); 3] = [
+        (&["presets"], 0),
+        (&["limit", "--nodes", "16"], 0),
+        (
+            &[
+                "figure",
+                "fig3",
+                "--out",
+                f,
+                "--lambda",
+                "4",
+                "--initial",
+                "OA",
+                "--nodes",
+                "16",
+                "--steps",
+                "32",
+            ],
+            1,
+        ),
+    ];
+    for (args, lines) in cases {
+        let (code, stderr) = closed_pipe(args, lines);
+        assert!(
+            matches!(code, Some(0) | Some(141)),
+            "{args:?}: {code:?} {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("error"), "{args:?}: {stderr}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn issue11_13_a_full_disk_is_exit_1_everywhere() {
+    if !std::path::Path::new("/dev/full").exists() {
+        return;
+    }
+    let dir = temp_dir("i11-13");
+    let mut args = args_with(&["sweep"], QUICK);
+    args.extend_from_slice(&["--out", "/dev/full"]);
+    failed(&args, &["/dev/full"]);
+    let f = quick_sweep(&dir, "f.csv", &[]);
+    let mut args = args_with(&["merge", f.to_str().unwrap()], QUICK);
+    args.extend_from_slice(&["--out", "/dev/full"]);
+    failed(&args, &["/dev/full"]);
+    failed(
+        &["limit", "--nodes", "16", "--out", "/dev/full"],
+        &["/dev/full"],
+    );
+    let (code, stderr) = shell("\"$SHAKEDOWN\" limit --nodes 16 > /dev/full");
+    assert_eq!(code, Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    let (code, stderr) = shell("\"$SHAKEDOWN\" presets > /dev/full");
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn issue11_14a_initial_point_overflow() {
+    rejected(
+        &["run", "--initial", "-2147483648,7"],
+        &["--initial -2147483648,7"],
+    );
+    rejected(
+        &["sweep", "--initial", "-2147483648,-2147483648"],
+        &["--initial"],
+    );
+}
+
+#[test]
+fn issue11_14b_a_product_without_a_coefficient_is_not_an_angle() {
+    rejected(&["run", "--phi", "*pi"], &["--phi *pi"]);
+    rejected(&["sweep", "--phi", "0,-*pi"], &["--phi 0,-*pi"]);
+}
+
+#[test]
+fn issue11_14c_control_characters_from_a_file_are_escaped() {
+    let (_, path) = preset_file(
+        "controls",
+        "description = \"d\"\n[case]\ninitial = \"\\u001B[2J\\u0007\"\n",
+    );
+    let line = rejected(&["run", "--preset", &path], &[&path, "\\u{1b}"]);
+    assert!(!line.chars().any(|c| c.is_control()), "{line:?}");
+}
+
+#[test]
+fn issue11_14d_huge_numbers_are_shown_in_exponent_form() {
+    let line = rejected(
+        &["run", "--lambda", "1e300"],
+        &["--lambda 1e300", "0 <= lambda <= 1000"],
+    );
+    assert!(line.len() < 200, "{line}");
+}
+
+#[test]
+fn issue11_14e_figure_flags_and_presets_agree() {
+    let dir = temp_dir("i11-14e");
+    let out = dir.join("fig");
+    rejected_untouched(
+        &dir,
+        &[
+            "figure",
+            "fig4",
+            "--phi",
+            "0,1",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["--phi 0,1", "single phase"],
+    );
+    assert!(!out.join("fig4.csv").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn issue11_14f_a_missing_argument_is_named() {
+    rejected(&["merge"], &["SHARD.csv", "shakedown --help"]);
+    rejected(&["figure"], &["NAME|FILE", "shakedown --help"]);
+}
+
+#[test]
+fn issue11_14g_large_discretisations_warn_with_a_time() {
+    // Warned on one line with an expected time, before the work (shard
+    // 2/2 of one run is empty, so the test is quick).
+    let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args([
+            "sweep", "--nodes", "4096", "--steps", "16", "--lambda", "3", "--shard", "2/2",
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let warning: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("warning"))
+        .collect();
+    assert_eq!(warning.len(), 1, "{stderr}");
+    assert!(
+        warning[0].contains("--nodes 4096") && warning[0].contains("expect about"),
+        "{stderr}"
+    );
 }

@@ -173,6 +173,7 @@ fn limit_command_prints_lambda_2_and_writes_the_slip() {
         "--samples",
         "32",
         "--json",
+        "--force",
         "--out",
         csv.to_str().unwrap(),
     ]);

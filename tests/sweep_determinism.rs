@@ -37,7 +37,10 @@ fn same_bytes_whatever_the_thread_count() {
     assert_eq!(one, two);
     assert_eq!(one, three);
     let text = String::from_utf8(one).unwrap();
-    let mut lines = text.lines();
+    // The `# key = value` header says what made the file.
+    assert!(text.starts_with("# shakedown = "));
+    assert!(text.contains("\n# initial = OA 7,-7 -5,7\n"), "{text}");
+    let mut lines = text.lines().skip_while(|l| l.starts_with('#'));
     assert_eq!(
         lines.next(),
         Some("lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle")

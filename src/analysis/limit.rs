@@ -193,6 +193,45 @@ pub fn shakedown_limit(
     })
 }
 
+/// One row of [`sample_convergence`]: the sample count `M`, `lambda_M`
+/// (an upper bound) and `lambda_M cos(pi/M)` (a lower bound).
+pub type ConvergenceRow = (usize, f64, f64);
+
+/// The convergence of `lambda_2` in the number of samples of an elliptical
+/// cycle: `limit` (solved with `samples`) and the same programme on the
+/// coarser samplings `samples/8, samples/4, samples/2` (those with at least
+/// 3 samples), coarsest first, ending with `samples` itself. A straight
+/// line has nothing to converge: the list is empty. The loop doubles a
+/// count of at least 1, so it ends for every `samples`.
+///
+/// # Errors
+///
+/// As [`shakedown_limit`] on a coarser sampling.
+pub fn sample_convergence(
+    material: &Material,
+    center: LoadPoint,
+    slope: f64,
+    phase: f64,
+    disc: &Discretisation,
+    samples: usize,
+    limit: &Limit,
+) -> Result<Vec<ConvergenceRow>, LimitError> {
+    let mut rows = Vec::new();
+    if limit.line {
+        return Ok(rows);
+    }
+    let mut m = (samples / 8).max(1);
+    while m < samples {
+        if m >= 3 {
+            let l = shakedown_limit(material, center, slope, phase, disc, m)?;
+            rows.push((m, l.load_factor, l.lower_bound));
+        }
+        m *= 2;
+    }
+    rows.push((samples, limit.load_factor, limit.lower_bound));
+    Ok(rows)
+}
+
 /// A sample that violates the friction law by more than this (in units of
 /// `p0`) at the optimum of the subset joins the programme.
 const CUT_TOLERANCE: f64 = 1e-9;

@@ -135,6 +135,10 @@ pub struct Row {
     pub outcome: Result<Summary, RunError>,
 }
 
+/// Most runs in one sweep (the product of the three lists): a larger grid
+/// is refused before its job list is allocated.
+pub const MAX_RUNS: usize = 10_000_000;
+
 /// Columns of a sweep's CSV, one [`Row::csv_line`] each.
 pub const CSV_HEADER: &str = "lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle";
 
@@ -285,6 +289,18 @@ impl SweepSpec {
 
     /// Check every cycle of the sweep before any work starts.
     fn validate(&self) -> Result<(), ParamError> {
+        let runs = self
+            .load_factors
+            .len()
+            .saturating_mul(self.phases.len())
+            .saturating_mul(self.initials.len());
+        if runs > MAX_RUNS {
+            return Err(ParamError::BadCount {
+                name: "runs",
+                value: runs,
+                expected: "at most 10000000 runs (lambda x phi x initial paths)",
+            });
+        }
         for &l in &self.load_factors {
             for &p in &self.phases {
                 Cycle::new(self.center, l, self.slope, p)?;

@@ -24,8 +24,65 @@ use std::sync::OnceLock;
 
 use anyhow::{anyhow, Result};
 use shakedown::io::batch::{resume_point, Interrupt};
+use shakedown::io::csv::{check_preamble, Metadata};
+use shakedown::io::output::{is_nonempty_file, same_file, LockError, OutputLock, WriteError};
+use shakedown::io::read::{read_capped, ReadError};
 
 use super::InputError;
+
+/// Take the lock on the output `path` given with `flag`; a second writer,
+/// or a folder where the lock cannot be made, is refused (bad input).
+pub fn lock_output(flag: &str, path: &Path) -> Result<OutputLock> {
+    OutputLock::acquire(path).map_err(|e| match e {
+        LockError::Busy { .. } => anyhow!(InputError(format!("{flag} {}: {e}", path.display()))),
+        LockError::Io { source, .. } => anyhow!(InputError(format!(
+            "{flag} {}: cannot create it: {source}: expected a writable file path",
+            path.display()
+        ))),
+    })
+}
+
+/// [`lock_output`] for an output that may be a device or FIFO
+/// (`/dev/stdout`): those are written in place and not locked.
+pub fn lock_file_output(flag: &str, path: &Path) -> Result<Option<OutputLock>> {
+    let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file());
+    if special {
+        return Ok(None);
+    }
+    lock_output(flag, path).map(Some)
+}
+
+/// Refuse an output that is one of the inputs (`(flag, path)` pairs): it
+/// would be destroyed before it is read.
+pub fn refuse_input_as_output(flag: &str, out: &Path, inputs: &[(&str, &Path)]) -> Result<()> {
+    for (what, input) in inputs {
+        if same_file(out, input) {
+            return Err(anyhow!(InputError(format!(
+                "{flag} {}: it is the {what} {}: write the output to another file",
+                out.display(),
+                input.display()
+            ))));
+        }
+    }
+    Ok(())
+}
+
+/// A failed whole-file write as an error: bad input when the path is wrong
+/// (exit 2), an environment failure otherwise (a full disk: exit 1).
+pub fn write_error(flag: &str, e: WriteError) -> anyhow::Error {
+    if e.is_input() {
+        anyhow!(InputError(format!(
+            "{flag} {e}: expected a writable file path"
+        )))
+    } else {
+        anyhow!("{flag} {e}")
+    }
+}
+
+/// Write a whole file atomically ([`shakedown::io::output::write_atomic`]).
+pub fn write_file(flag: &str, path: &Path, bytes: &[u8]) -> Result<()> {
+    shakedown::io::output::write_atomic(path, bytes).map_err(|e| write_error(flag, e))
+}
 
 /// Exit status after an interrupt: 128 + SIGINT, what shells report for a
 /// process that Ctrl-C ended.
@@ -65,13 +122,15 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
     })
 }
 
-/// Print to stdout; a closed pipe is not an error (the caller stops).
-/// Returns false when the pipe is closed.
-pub fn print_stdout(text: &str) -> Result<bool> {
+/// Print to stdout. A closed pipe (`shakedown presets | head -1`) is
+/// returned as an error that [`is_broken_pipe`] recognises, and `main`
+/// ends quietly with status 0; any other failure (a full disk) is an
+/// environment error (status 1).
+pub fn print_stdout(text: &str) -> Result<()> {
     let mut out = io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
-        Ok(()) => Ok(true),
-        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(false),
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Err(anyhow::Error::new(e)),
         Err(e) => Err(anyhow!("cannot write to stdout: {e}")),
     }
 }
@@ -84,22 +143,34 @@ pub struct Output {
     pub kept: usize,
     /// Lines written by this run.
     pub written: usize,
+    /// Held while the output is open.
+    _lock: Option<OutputLock>,
 }
 
 impl Output {
-    /// Open `--out` (or stdout when `None`). Without `resume` the file is
-    /// created or truncated and the header written. With `resume` an
-    /// existing file must start with `header` and hold complete lines
-    /// whose keys (by `key_of`) are the first of `keys`; those are kept,
-    /// an incomplete last line is cut off, and [`Output::kept`] says how
-    /// many jobs to skip. A missing file starts afresh.
+    /// Open `--out` (or stdout when `None`), writing `meta`'s comment lines
+    /// and then `columns` as the header.
+    ///
+    /// A file is locked first ([`OutputLock`]): a second writer is refused.
+    /// Without `resume` an existing non-empty file is refused unless
+    /// `force`; otherwise it is created or truncated and the header
+    /// written. With `resume` an existing file (read through a size cap,
+    /// regular files only) must carry the same comment lines (the first
+    /// differing key is named) and hold valid rows (by `key_of`) whose keys
+    /// are the first of `keys`; those are kept, an incomplete last line is
+    /// cut off, and [`Output::kept`] says how many jobs to skip. A missing
+    /// file starts afresh. Whatever is refused is left untouched.
+    #[allow(clippy::too_many_arguments)]
     pub fn open<K: AsRef<str>>(
         path: Option<&Path>,
         resume: bool,
-        header: &str,
+        force: bool,
+        meta: &Metadata,
+        columns: &str,
         keys: &[K],
-        key_of: impl Fn(&str) -> Option<&str>,
+        key_of: impl Fn(&str) -> Result<&str, String>,
     ) -> Result<Output> {
+        let header = meta.preamble(columns);
         let Some(path) = path else {
             if resume {
                 return Err(anyhow!(InputError(
@@ -111,25 +182,49 @@ impl Output {
                 path: None,
                 kept: 0,
                 written: 0,
+                _lock: None,
             };
             out.raw(&format!("{header}\n"))?;
             return Ok(out);
         };
+        let shown = path.display();
         let cannot = |what: &str, e: io::Error| {
             anyhow!(InputError(format!(
-                "--out {}: cannot {what}: {e}: expected a writable file path",
-                path.display()
+                "--out {shown}: cannot {what}: {e}: expected a writable file path"
             )))
         };
-        let existing = if resume {
-            match std::fs::read(path) {
+        // Devices and FIFOs (/dev/stdout, /dev/null) are written in place
+        // and never locked or resumed.
+        let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir());
+        if resume && special {
+            return Err(anyhow!(InputError(format!(
+                "--resume --out {shown}: cannot resume it: it is not a regular file (a FIFO or device): expected a file"
+            ))));
+        }
+        let lock = if special || path.is_dir() {
+            None
+        } else {
+            Some(lock_output("--out", path)?)
+        };
+        let existing = if resume && !special {
+            let cap = header.len() as u64 + 4096 + 512 * (keys.len() as u64 + 1);
+            match read_capped(path, cap) {
                 Ok(bytes) => Some(bytes),
-                Err(e) if e.kind() == io::ErrorKind::NotFound => None,
-                Err(e) => return Err(cannot("read it to resume", e)),
+                Err(ReadError::Io(_)) if !path.exists() => None,
+                Err(e) => {
+                    return Err(anyhow!(InputError(format!(
+                        "--resume --out {shown}: cannot resume this file: {e}"
+                    ))))
+                }
             }
         } else {
             None
         };
+        if !resume && !force && is_nonempty_file(path) {
+            return Err(anyhow!(InputError(format!(
+                "--out {shown}: it exists and is not empty: add --resume to continue it, or --force to replace it"
+            ))));
+        }
         let (file, kept, has_header) = match existing {
             None => (
                 File::create(path).map_err(|e| cannot("create it", e))?,
@@ -137,12 +232,13 @@ impl Output {
                 false,
             ),
             Some(bytes) => {
-                let point = resume_point(&bytes, header, keys, key_of).map_err(|e| {
+                let refuse = |e: &dyn std::fmt::Display| {
                     anyhow!(InputError(format!(
-                        "--resume --out {}: cannot resume this file: {e}",
-                        path.display()
+                        "--resume --out {shown}: cannot resume this file: {e}"
                     )))
-                })?;
+                };
+                check_preamble(&bytes, meta).map_err(|e| refuse(&e))?;
+                let point = resume_point(&bytes, &header, keys, key_of).map_err(|e| refuse(&e))?;
                 let mut file = OpenOptions::new()
                     .write(true)
                     .open(path)
@@ -158,6 +254,7 @@ impl Output {
             path: Some(path.to_path_buf()),
             kept,
             written: 0,
+            _lock: lock,
         };
         if !has_header {
             out.raw(&format!("{header}\n"))?;

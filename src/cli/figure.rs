@@ -20,7 +20,10 @@ use shakedown::figure::FigureError;
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::io::preset::{FigureKind, FigureSpec, Preset};
 
-use super::batch::{ctrl_c, Output};
+use shakedown::io::csv::{case_metadata, slip_csv, sweep_metadata};
+use shakedown::io::output::{check_file_stem, is_nonempty_file, temp_path};
+
+use super::batch::{ctrl_c, lock_output, refuse_input_as_output, write_file, Output};
 use super::sweep::{job_key, progress, row_key, spec, warn_failures, ListArgs};
 use super::{load_preset, InputError, ModelArgs};
 
@@ -32,21 +35,52 @@ pub struct FigureArgs {
     /// Directory to write NAME.csv, NAME.svg and NAME.png into (created if missing).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
+    /// Replace the figure's files if they exist (without it, an existing
+    /// NAME.csv, NAME.svg or NAME.png is refused and left untouched). The
+    /// old files stay until the new ones are complete.
+    #[arg(long)]
+    pub force: bool,
     #[command(flatten)]
     pub lists: ListArgs,
     #[command(flatten)]
     pub model: ModelArgs,
 }
 
+/// Replace `path` whole (temporary file, then rename).
 fn write(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|e| {
-        anyhow!(InputError(format!(
-            "--out: cannot write {}: {e}",
-            path.display()
-        )))
-    })
+    write_file("--out", path, text.as_bytes())
 }
 
+/// The files a figure may write, by suffix.
+const SUFFIXES: [&str; 5] = [".csv", "_limit.csv", "_load.csv", ".svg", ".png"];
+
+/// Draw the plot into temporary files beside `svg` and `png`, then rename
+/// them into place: an interrupted or failed drawing leaves the old ones.
+fn write_plot<D: shakedown::figure::draw::Drawing>(plot: &D, svg: &Path, png: &Path) -> Result<()> {
+    let temp = |p: &Path| {
+        let name = p.file_name().map(|n| n.to_string_lossy().into_owned());
+        p.with_file_name(format!(
+            ".tmp-{}-{}",
+            std::process::id(),
+            name.unwrap_or_default()
+        ))
+    };
+    let (tsvg, tpng) = (temp(svg), temp(png));
+    let result = write_svg_png(plot, &tsvg, &tpng)
+        .map_err(anyhow::Error::from)
+        .and_then(|()| {
+            std::fs::rename(&tsvg, svg)
+                .and_then(|()| std::fs::rename(&tpng, png))
+                .map_err(|e| anyhow!("--out: cannot replace {}: {e}", svg.display()))
+        });
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tsvg);
+        let _ = std::fs::remove_file(&tpng);
+    }
+    result
+}
+
+/// Run `shakedown figure`.
 pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     let preset = load_preset("figure", &args.name)?;
     let Some(fig) = preset.figure.clone() else {
@@ -55,14 +89,51 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             args.name, preset.file
         ))));
     };
+    let stem = preset.name.clone();
+    // A preset's name becomes a file name: it must stay inside --out.
+    check_file_stem(&stem).map_err(|why| {
+        anyhow!(InputError(format!(
+            "figure {}: name '{}' cannot be used: {why}",
+            args.name,
+            shakedown::io::read::escape_text(&stem, 60)
+        )))
+    })?;
+    if fig.kind == FigureKind::Memory {
+        if let Some(t) = &args.lists.phis {
+            if parse_values(t, parse_angle).is_ok_and(|v| v.len() != 1) {
+                return Err(anyhow!(InputError(format!(
+                    "--phi {t}: the memory figure needs a single phase, as in its preset"
+                ))));
+            }
+        }
+    }
     std::fs::create_dir_all(&args.out).map_err(|e| {
         anyhow!(InputError(format!(
             "--out {}: cannot create the directory: {e}",
             args.out.display()
         )))
     })?;
-    let stem = preset.name.clone();
     let file = |ext: &str| args.out.join(format!("{stem}{ext}"));
+    let preset_path = Path::new(&args.name);
+    for ext in SUFFIXES {
+        if preset_path.exists() {
+            refuse_input_as_output("--out", &file(ext), &[("preset file", preset_path)])?;
+        }
+    }
+    let existing: Vec<PathBuf> = SUFFIXES
+        .iter()
+        .map(|e| file(e))
+        .filter(|p| is_nonempty_file(p))
+        .collect();
+    if !existing.is_empty() && !args.force {
+        return Err(anyhow!(InputError(format!(
+            "--out {}: {} exists (a figure made before): add --force to replace the figure's files",
+            args.out.display(),
+            existing[0].display()
+        ))));
+    }
+    // One writer per figure: the lock is DIR/NAME.lock.
+    let _lock = lock_output("--out", &args.out.join(&stem))?;
     let title = fig
         .title
         .clone()
@@ -78,8 +149,22 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             // that Ctrl-C leaves a file of complete rows (a prefix of the
             // full table) and no half-drawn plot.
             let keys: Vec<String> = jobs.iter().map(|j| job_key(&spec, j)).collect();
-            let csv_path = file(".csv");
-            let mut out = Output::open(Some(&csv_path), false, CSV_HEADER, &keys, row_key)?;
+            // A figure made before stays whole until the new table is.
+            let csv_path = if existing.is_empty() {
+                file(".csv")
+            } else {
+                temp_path(&file(".csv"))
+            };
+            let meta = sweep_metadata(&spec);
+            let mut out = Output::open(
+                Some(&csv_path),
+                false,
+                true,
+                &meta,
+                CSV_HEADER,
+                &keys,
+                row_key,
+            )?;
             let interrupt = ctrl_c()?;
             let bar = progress(jobs.len());
             let mut rows = Vec::with_capacity(jobs.len());
@@ -90,7 +175,17 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                 anyhow::Ok(())
             });
             bar.finish_and_clear();
+            drop(out);
             if !result?.is_complete() {
+                if csv_path != file(".csv") {
+                    let _ = std::fs::remove_file(&csv_path);
+                    eprintln!(
+                        "interrupted: {} of {} runs were done; the figure made before is unchanged",
+                        rows.len(),
+                        jobs.len()
+                    );
+                    return Ok(ExitCode::from(super::batch::INTERRUPTED));
+                }
                 eprintln!(
                     "interrupted: {} of {} runs are in {} (complete rows only); no plot was drawn",
                     rows.len(),
@@ -100,11 +195,16 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                 return Ok(ExitCode::from(super::batch::INTERRUPTED));
             }
             warn_failures(&rows);
+            if csv_path != file(".csv") {
+                std::fs::rename(&csv_path, file(".csv")).map_err(|e| {
+                    anyhow!("--out: cannot replace {}: {e}", file(".csv").display())
+                })?;
+            }
             written.push(file(".csv"));
             if let Some(l) = &limit {
-                write_limit(&file("_limit.csv"), l, spec.disc().nodes())?;
+                write_limit(&file("_limit.csv"), l, &spec)?;
                 written.push(file("_limit.csv"));
-                println!("lambda_2 = {:.6} (linear programme)", l.load_factor);
+                outln!("lambda_2 = {:.6} (linear programme)", l.load_factor);
             }
             let plot = DissipationPlot {
                 rows: &rows,
@@ -114,8 +214,8 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                 title,
                 limit: limit.as_ref().map(|l| l.load_factor),
             };
-            write_svg_png(&plot, &file(".svg"), &file(".png"))?;
-            println!("{} runs", rows.len());
+            write_plot(&plot, &file(".svg"), &file(".png"))?;
+            outln!("{} runs", rows.len());
         }
         FigureKind::Memory => {
             let spec = sweep_spec(&args, &preset)?;
@@ -125,42 +225,52 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             let runs = memory_runs(&spec, &|| bar.inc(1)).map_err(|e| input(e.into()))?;
             bar.finish_and_clear();
             let points = memory_points(&runs);
-            write(&file(".csv"), &memory_csv(&points))?;
+            let mut meta = sweep_metadata(&spec);
+            meta.set("table", "memory");
+            write(&file(".csv"), &(meta.render() + &memory_csv(&points)))?;
             written.push(file(".csv"));
             if let Some(l) = &limit {
-                write_limit(&file("_limit.csv"), l, spec.disc().nodes())?;
+                write_limit(&file("_limit.csv"), l, &spec)?;
                 written.push(file("_limit.csv"));
-                println!("lambda_2 = {:.6} (linear programme)", l.load_factor);
+                outln!("lambda_2 = {:.6} (linear programme)", l.load_factor);
             }
             if let Some(l3) = ratchetting_onset(&points) {
-                println!("lambda_3 = {l3} (every transient ratchets from here on)");
+                outln!("lambda_3 = {l3} (every transient ratchets from here on)");
             }
             let plot = MemoryPlot {
                 points: &points,
                 title,
                 limit: limit.as_ref().map(|l| l.load_factor),
             };
-            write_svg_png(&plot, &file(".svg"), &file(".png"))?;
-            println!("{} runs", runs.len());
+            write_plot(&plot, &file(".svg"), &file(".png"))?;
+            outln!("{} runs", runs.len());
         }
         FigureKind::SlipMap => {
             let case = single_case(&args, &preset)?;
             let map = slip_map(&case).map_err(|e| input(e.into()))?;
-            write(&file(".csv"), &map.csv())?;
-            write(&file("_load.csv"), &map.load_csv())?;
+            let meta = case_metadata("slip-map", &case, &case.initial.name()).render();
+            write(&file(".csv"), &(meta.clone() + &map.csv()))?;
+            write(&file("_load.csv"), &(meta + &map.load_csv()))?;
             written.push(file(".csv"));
             written.push(file("_load.csv"));
-            describe(&map);
+            describe(&map)?;
             let plot = SlipMapPlot { map: &map, title };
-            write_svg_png(&plot, &file(".svg"), &file(".png"))?;
+            write_plot(&plot, &file(".svg"), &file(".png"))?;
         }
     }
     written.push(file(".svg"));
     written.push(file(".png"));
-    for w in &written {
-        println!("wrote {}", w.display());
+    // Files of a figure made before that this one does not have.
+    for ext in SUFFIXES {
+        let p = file(ext);
+        if !written.contains(&p) && existing.contains(&p) {
+            let _ = std::fs::remove_file(&p);
+        }
     }
-    println!("took {:.1} s", started.elapsed().as_secs_f64());
+    for w in &written {
+        outln!("wrote {}", w.display());
+    }
+    outln!("took {:.1} s", started.elapsed().as_secs_f64());
     Ok(ExitCode::SUCCESS)
 }
 
@@ -201,8 +311,16 @@ fn limit_of(fig: &FigureSpec, spec: &SweepSpec) -> Result<Option<Limit>> {
     Ok(Some(l))
 }
 
-fn write_limit(path: &Path, l: &Limit, nodes: usize) -> Result<()> {
-    write(path, &super::limit::slip_csv(l, nodes))
+fn write_limit(path: &Path, l: &Limit, spec: &SweepSpec) -> Result<()> {
+    let csv = slip_csv(
+        l,
+        &spec.material(),
+        spec.center(),
+        spec.slope(),
+        spec.phases()[0],
+        DEFAULT_SAMPLES,
+    );
+    write(path, &csv)
 }
 
 /// The one case of a slip map: the preset's, with at most one value from
@@ -232,10 +350,14 @@ fn single_case(args: &FigureArgs, preset: &Preset) -> Result<Case> {
     Case::from_params(&p).map_err(|e| anyhow!(InputError(e.to_string())))
 }
 
-fn describe(map: &SlipMap) {
+fn describe(map: &SlipMap) -> Result<()> {
     let s = &map.summary;
-    println!(
+    outln!(
         "steady state: {} after {} cycles, W = {:.6e}, rotation {:.3e} per cycle",
-        s.state, s.cycles, s.dissipation, s.rotation_per_cycle
+        s.state,
+        s.cycles,
+        s.dissipation,
+        s.rotation_per_cycle
     );
+    Ok(())
 }

@@ -1,18 +1,24 @@
 //! `shakedown limit`: `lambda_2` by linear programming and its optimal slip.
 
 use std::f64::consts::PI;
-use std::io::Write;
+use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::{anyhow, Result};
 use clap::Args;
 use serde_json::json;
 use shakedown::analysis::case::{Case, CaseParams};
-use shakedown::analysis::limit::{shakedown_limit, Limit, LimitError, DEFAULT_SAMPLES};
+use shakedown::analysis::limit::{
+    sample_convergence, shakedown_limit, Limit, LimitError, DEFAULT_SAMPLES,
+};
+use shakedown::io::csv::slip_csv;
+use shakedown::io::output::{check_folder, is_nonempty_file};
 use shakedown::model::{LoadPoint, Material};
 
-use super::{CaseArgs, InputError};
+use super::batch::{lock_file_output, print_stdout, refuse_input_as_output, write_file};
+use super::{case_error, CaseArgs, InputError};
 
+/// The flags of `shakedown limit`.
 #[derive(Debug, Args)]
 pub struct LimitArgs {
     #[command(flatten)]
@@ -20,9 +26,13 @@ pub struct LimitArgs {
     /// Load points on an elliptical cycle (phi != 0); a straight line uses its two ends.
     #[arg(long, value_name = "M")]
     pub samples: Option<String>,
-    /// Write the optimal slip g(theta) here as CSV.
-    #[arg(long, value_name = "FILE", default_value = "optimal_slip.csv")]
-    pub out: std::path::PathBuf,
+    /// Write the optimal slip g(theta) here as CSV (nothing is written
+    /// without it); `run` and `sweep` start from it with --initial-slip FILE.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<std::path::PathBuf>,
+    /// Replace an existing, non-empty --out FILE.
+    #[arg(long)]
+    pub force: bool,
     /// Print one JSON object instead of the readable report.
     #[arg(long)]
     pub json: bool,
@@ -39,58 +49,71 @@ fn classify(e: LimitError) -> anyhow::Error {
     }
 }
 
+/// Run `shakedown limit`.
 pub fn limit(args: LimitArgs) -> Result<ExitCode> {
+    // Flags that play no part in lambda_2 are refused, not ignored.
+    for flag in ["lambda", "initial", "max-cycles", "steps"] {
+        if let Some(v) = args.case.given(flag) {
+            return Err(anyhow!(InputError(format!(
+                "--{flag} {v}: limit does not use it (lambda_2 depends on the cycle's direction, the material and --nodes only): drop it"
+            ))));
+        }
+    }
     let base = args.case.base(CaseParams::default())?;
     let mut params = args.case.apply(base)?;
     // lambda and the initial path play no part in the limit.
     params.initial = "OA".into();
-    let case = Case::from_params(&params).map_err(|e| anyhow!(InputError(e.to_string())))?;
+    let case = Case::from_params(&params).map_err(|e| case_error(e, |f| args.case.given(f)))?;
     let samples = match &args.samples {
-        Some(t) => t
-            .trim()
-            .parse::<usize>()
-            .map_err(|_| anyhow!(InputError(format!("--samples {t}: not a whole number"))))?,
+        Some(t) => t.trim().parse::<usize>().map_err(|_| {
+            anyhow!(InputError(format!(
+                "--samples {t}: not a whole number: expected 3 to 4096"
+            )))
+        })?,
         None => DEFAULT_SAMPLES,
     };
-    let (material, center) = (case.material, case.cycle.center);
-    let solve = |m: usize| -> Result<Limit> {
-        shakedown_limit(
-            &material,
-            center,
-            case.cycle.slope,
-            case.cycle.phase,
-            &case.disc,
-            m,
-        )
-        .map_err(classify)
-    };
-    let limit = solve(samples)?;
-    // Convergence in the sample count: the same programme on coarser
-    // samplings (a line has nothing to converge).
-    let mut convergence = Vec::new();
-    if !limit.line {
-        let mut m = samples / 8;
-        while m < samples {
-            if m >= 3 {
-                let l = solve(m)?;
-                convergence.push((m, l.load_factor, l.lower_bound));
+    // Refuse a bad output before the work, and hold it against a second writer.
+    let _lock = match &args.out {
+        Some(out) => {
+            if let Some(preset) = &args.case.preset {
+                refuse_input_as_output("--out", out, &[("--preset file", Path::new(preset))])?;
             }
-            m *= 2;
+            if !args.force && is_nonempty_file(out) {
+                return Err(anyhow!(InputError(format!(
+                    "--out {}: it exists and is not empty: add --force to replace it",
+                    out.display()
+                ))));
+            }
+            check_folder(out).map_err(|e| {
+                anyhow!(InputError(format!(
+                    "--out {}: cannot create it: {e}: expected a writable file path",
+                    out.display()
+                )))
+            })?;
+            lock_file_output("--out", out)?
         }
-        convergence.push((samples, limit.load_factor, limit.lower_bound));
-    }
+        None => None,
+    };
+    let (material, center) = (case.material, case.cycle.center);
+    let (slope, phase) = (case.cycle.slope, case.cycle.phase);
+    let limit =
+        shakedown_limit(&material, center, slope, phase, &case.disc, samples).map_err(classify)?;
+    // Convergence in the sample count (a line has nothing to converge).
+    let convergence =
+        sample_convergence(&material, center, slope, phase, &case.disc, samples, &limit)
+            .map_err(classify)?;
 
-    let csv = slip_csv(&limit, case.disc.nodes());
-    std::fs::File::create(&args.out)
-        .and_then(|mut f| f.write_all(csv.as_bytes()))
-        .map_err(|e| anyhow!(InputError(format!("--out {}: {e}", args.out.display()))))?;
+    if let Some(out) = &args.out {
+        let csv = slip_csv(&limit, &material, center, slope, phase, samples);
+        write_file("--out", out, csv.as_bytes())?;
+    }
 
     if args.json {
         let conv: Vec<_> = convergence
             .iter()
             .map(|(m, l, lo)| json!({"samples": m, "lambda_2": l, "lower_bound": lo}))
             .collect();
-        println!(
+        outln!(
             "{}",
             json!({
                 "lambda_2": limit.load_factor,
@@ -100,15 +123,18 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
                 "convergence": conv,
                 "max_violation": limit.max_violation,
                 "iterations": limit.iterations,
-                "slip_csv": args.out.display().to_string(),
+                "slip_csv": args.out.as_ref().map(|p| p.display().to_string()),
                 "parameters": parameters(&params, &material, center),
             })
         );
     } else {
-        print!(
-            "{}",
-            readable(&params, &limit, &convergence, &args.out, samples)
-        );
+        print_stdout(&readable(
+            &params,
+            &limit,
+            &convergence,
+            args.out.as_deref(),
+            samples,
+        ))?;
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -125,20 +151,11 @@ fn parameters(p: &CaseParams, m: &Material, center: LoadPoint) -> serde_json::Va
     })
 }
 
-/// `theta,g` at every node.
-pub fn slip_csv(limit: &Limit, nodes: usize) -> String {
-    let mut out = String::from("theta,g\n");
-    for (j, g) in limit.slip.iter().enumerate() {
-        out.push_str(&format!("{},{}\n", 2.0 * PI * j as f64 / nodes as f64, g));
-    }
-    out
-}
-
 fn readable(
     p: &CaseParams,
     l: &Limit,
     convergence: &[(usize, f64, f64)],
-    out: &std::path::Path,
+    out: Option<&Path>,
     samples: usize,
 ) -> String {
     use std::fmt::Write;
@@ -179,11 +196,22 @@ fn readable(
         "check     max(|q| - f p) of the optimal slip at lambda_2: {:.2e}  ({} interior-point iterations)",
         l.max_violation, l.iterations
     );
-    let _ = writeln!(
-        o,
-        "slip      optimal g(theta) written to {} ({} nodes); use it with --initial optimal",
-        out.display(),
-        l.slip.len()
-    );
+    match out {
+        Some(out) => {
+            let _ = writeln!(
+                o,
+                "slip      optimal g(theta) written to {} ({} nodes); start from it with --initial-slip {}",
+                out.display(),
+                l.slip.len(),
+                out.display()
+            );
+        }
+        None => {
+            let _ = writeln!(
+                o,
+                "slip      not written (add --out FILE to keep the optimal g(theta); --initial optimal recomputes it)"
+            );
+        }
+    }
     o
 }

@@ -1,6 +1,17 @@
 //! Command-line interface. Each subcommand lives in its own file; this one
 //! holds the flags every case shares and the error-to-exit-code mapping.
 
+/// `println!` that never panics: a closed pipe ends the command quietly,
+/// a full disk is an error (see [`batch::print_stdout`]).
+macro_rules! outln {
+    () => {
+        $crate::cli::batch::print_stdout("\n")?
+    };
+    ($($arg:tt)*) => {
+        $crate::cli::batch::print_stdout(&format!("{}\n", format_args!($($arg)*)))?
+    };
+}
+
 pub mod batch;
 mod figure;
 mod limit;
@@ -268,6 +279,7 @@ impl CaseArgs {
     pub fn case(&self, base: CaseParams) -> Result<(CaseParams, Case)> {
         let params = self.apply(base)?;
         let case = Case::from_params(&params).map_err(|e| case_error(e, |f| self.given(f)))?;
+        warn_if_slow(params.nodes, params.steps);
         Ok((params, case))
     }
 
@@ -280,6 +292,69 @@ impl CaseArgs {
             f => self.model.given(f),
         }
     }
+}
+
+/// Largest `--nodes` and `--steps` of the interactive range: a run takes
+/// well under a second up to here.
+pub const INTERACTIVE_NODES: usize = 512;
+/// See [`INTERACTIVE_NODES`].
+pub const INTERACTIVE_STEPS: usize = 2000;
+
+/// A rough time for one run to its steady state: 20 ms at the defaults
+/// (128 nodes, 400 increments per cycle), growing with the square of the
+/// node count (the reduced system) and linearly with the increments.
+pub fn expected_run_seconds(nodes: usize, steps: usize) -> f64 {
+    0.02 * (nodes as f64 / 128.0).powi(2) * (steps as f64 / 400.0)
+}
+
+/// Warn on stderr (one line) when `--nodes` or `--steps` is above the
+/// interactive range, with the expected time per run.
+pub fn warn_if_slow(nodes: usize, steps: usize) {
+    if nodes <= INTERACTIVE_NODES && steps <= INTERACTIVE_STEPS {
+        return;
+    }
+    let t = expected_run_seconds(nodes, steps);
+    let time = if t < 60.0 {
+        format!("{t:.0} s")
+    } else if t < 3600.0 {
+        format!("{:.0} min", t / 60.0)
+    } else {
+        format!("{:.1} h", t / 3600.0)
+    };
+    eprintln!(
+        "warning: --nodes {nodes} --steps {steps} is above the interactive range (nodes <= {INTERACTIVE_NODES}, steps <= {INTERACTIVE_STEPS}): expect about {time} per run"
+    );
+}
+
+/// The initial path of `--initial-slip FILE`: start at the cycle centre
+/// with the slip of an optimal-slip CSV (`limit --out FILE`), which must
+/// have one finite value per node of `nodes`.
+pub fn initial_slip(path: &str, nodes: usize) -> Result<shakedown::model::Initial> {
+    use shakedown::io::read::{escape_text, read_text_capped, MAX_PRESET_BYTES};
+    let shown = escape_text(path, 200);
+    let bad =
+        |e: &dyn std::fmt::Display| anyhow!(InputError(format!("--initial-slip {shown}: {e}")));
+    let text =
+        read_text_capped(std::path::Path::new(path), MAX_PRESET_BYTES).map_err(|e| bad(&e))?;
+    let slip = shakedown::io::csv::read_slip_csv(&text, nodes).map_err(|e| bad(&e))?;
+    let stem = std::path::Path::new(path)
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let stem: String = stem
+        .chars()
+        .map(|c| {
+            if c == '"' || c == ',' || c.is_control() {
+                '_'
+            } else {
+                c
+            }
+        })
+        .collect();
+    Ok(shakedown::model::Initial::Slip {
+        name: format!("slip:{stem}"),
+        slip: std::sync::Arc::new(slip),
+    })
 }
 
 /// Bad user input: reported on one line with exit status 2.
@@ -328,6 +403,8 @@ pub fn main() -> ExitCode {
     };
     match result {
         Ok(code) => code,
+        // `shakedown presets | head -1`: the reader has what it wants.
+        Err(e) if batch::is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {}", one_line(&e));
             if is_input_error(&e) {
@@ -339,26 +416,63 @@ pub fn main() -> ExitCode {
     }
 }
 
-/// The whole error chain on one line.
+/// The whole error chain on one line, control characters escaped (a
+/// file's content may be quoted in it) and very long numbers shortened.
 fn one_line(e: &anyhow::Error) -> String {
-    e.chain()
+    let text = e
+        .chain()
         .map(|c| c.to_string())
         .collect::<Vec<_>>()
         .join(": ")
-        .replace('\n', " ")
+        .replace('\n', " ");
+    shorten_numbers(&shakedown::io::read::escape_text(&text, 2000))
+}
+
+/// Numbers written out with more than 20 digits (`1e300` printed by
+/// `{}`) in exponent form.
+fn shorten_numbers(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(start) = rest.find(|c: char| c.is_ascii_digit()) {
+        out.push_str(&rest[..start]);
+        let tail = &rest[start..];
+        let len = tail
+            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .unwrap_or(tail.len());
+        let run = &tail[..len];
+        let digits = run.chars().filter(char::is_ascii_digit).count();
+        match run.parse::<f64>() {
+            Ok(v) if digits > 20 => out.push_str(&format!("{v:e}")),
+            _ => out.push_str(run),
+        }
+        rest = &tail[len..];
+    }
+    out.push_str(rest);
+    out
 }
 
 /// A command-line syntax error from clap on one line: its first line
 /// (without clap's own `error: `), and where to look for help.
 fn clap_one_line(e: &clap::Error) -> String {
+    // The message up to the usage line: a missing argument's name is on
+    // the lines after the first.
     let text = e.render().to_string();
-    let first = text
+    let lines: Vec<&str> = text
         .lines()
         .map(str::trim)
-        .find(|l| !l.is_empty())
-        .unwrap_or("invalid command line");
-    let first = first.strip_prefix("error: ").unwrap_or(first);
-    format!("{first} (see shakedown --help)")
+        .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
+        .filter(|l| !l.is_empty())
+        .collect();
+    let joined = if lines.is_empty() {
+        "invalid command line".to_string()
+    } else {
+        lines.join(" ")
+    };
+    let first = joined.strip_prefix("error: ").unwrap_or(&joined);
+    format!(
+        "{} (see shakedown --help)",
+        shakedown::io::read::escape_text(first, 500)
+    )
 }
 
 fn is_input_error(e: &anyhow::Error) -> bool {
@@ -369,6 +483,8 @@ fn is_input_error(e: &anyhow::Error) -> bool {
             || c.is::<shakedown::model::ParamError>()
             || c.is::<shakedown::model::path::PathError>()
             || c.is::<shakedown::io::preset::PresetError>()
+            || c.is::<shakedown::io::csv::MetadataError>()
+            || c.is::<shakedown::io::read::ReadError>()
     })
 }
 

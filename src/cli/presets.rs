@@ -4,6 +4,7 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 
+/// Run `shakedown presets`.
 pub fn presets() -> Result<ExitCode> {
     let all = shakedown::io::preset::builtin();
     let width = shakedown::io::preset::BUILTIN
@@ -14,15 +15,15 @@ pub fn presets() -> Result<ExitCode> {
     let mut code = ExitCode::SUCCESS;
     for ((name, _), preset) in shakedown::io::preset::BUILTIN.iter().zip(all) {
         match preset {
-            Ok(p) => println!("{name:width$}  {}", p.description),
+            Ok(p) => outln!("{name:width$}  {}", p.description),
             Err(e) => {
                 eprintln!("error: {e}");
                 code = ExitCode::from(1);
             }
         }
     }
-    println!();
-    println!("Use one with --preset NAME (run, sweep, tui) or `shakedown figure NAME --out DIR`;");
-    println!("a path to your own .toml works too (copy one from presets/ to start).");
+    outln!();
+    outln!("Use one with --preset NAME (run, sweep, tui) or `shakedown figure NAME --out DIR`;");
+    outln!("a path to your own .toml works too (copy one from presets/ to start).");
     Ok(code)
 }

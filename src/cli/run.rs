@@ -19,11 +19,25 @@ pub struct RunArgs {
     /// Print one JSON object instead of the readable summary.
     #[arg(long)]
     pub json: bool,
+    /// Start at the cycle centre with the slip in FILE (as `limit --out
+    /// FILE` writes it; its node count must be --nodes).
+    #[arg(long, value_name = "FILE")]
+    pub initial_slip: Option<String>,
 }
 
+/// Run `shakedown run`.
 pub fn run(args: RunArgs) -> Result<ExitCode> {
     let base = args.case.base(CaseParams::default())?;
-    let (params, case) = args.case.case(base)?;
+    if let (Some(_), Some(i)) = (&args.initial_slip, &args.case.initial) {
+        return Err(anyhow::anyhow!(super::InputError(format!(
+            "--initial {i}: give either --initial or --initial-slip, not both"
+        ))));
+    }
+    let (mut params, mut case) = args.case.case(base)?;
+    if let Some(path) = &args.initial_slip {
+        case.initial = super::initial_slip(path, params.nodes)?;
+        params.initial = case.initial.name();
+    }
     let mut stepper = case.stepper();
     let summary = stepper.run_to_steady()?;
     let history: Vec<f64> = stepper.history().iter().map(|r| r.dissipation).collect();

@@ -9,12 +9,15 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use shakedown::analysis::case::{Case, CaseError, CaseParams};
 use shakedown::analysis::sweep::SweepLists;
-use shakedown::analysis::sweep::{Job, Row, SweepSpec};
+use shakedown::analysis::sweep::{Job, Row, SweepSpec, MAX_RUNS};
 use shakedown::io::batch::Shard;
+use shakedown::io::csv::sweep_metadata;
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::model::path::Initial;
 
-use super::batch::{ctrl_c, is_broken_pipe, report_interrupt, Output};
+use std::path::Path;
+
+use super::batch::{ctrl_c, is_broken_pipe, refuse_input_as_output, report_interrupt, Output};
 use super::{bad_flag, case_error, load_preset, ModelArgs};
 
 /// The CSV header: `lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle`.
@@ -29,8 +32,12 @@ pub struct SweepArgs {
     pub out: Option<std::path::PathBuf>,
     /// Continue an interrupted --out FILE: keep its complete rows, skip
     /// those runs, append the rest (the result is the uninterrupted file).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "force")]
     pub resume: bool,
+    /// Replace an existing, non-empty --out FILE (without it, such a file
+    /// is refused and left untouched).
+    #[arg(long)]
+    pub force: bool,
     /// Run only the K-th of N disjoint slices of the runs (1 <= K <= N):
     /// runs K, K+N, K+2N, ... Join the slices with `shakedown merge`.
     #[arg(long, value_name = "K/N")]
@@ -49,6 +56,10 @@ pub struct ListArgs {
     /// Initial paths: all (the paper's 25), optimal (the lambda_2 slip, per phase), or a list such as OA,7,-7 (points take two numbers) or all,optimal.
     #[arg(long = "initial", value_name = "all|NAMES", allow_hyphen_values = true)]
     pub initials: Option<String>,
+    /// Start every run at the cycle centre with the slip in FILE (as
+    /// `limit --out FILE` writes it; its node count must be --nodes).
+    #[arg(long, value_name = "FILE", conflicts_with = "initials")]
+    pub initial_slip: Option<String>,
 }
 
 /// The grid of a sweep: what `sweep` runs and what `merge` re-derives.
@@ -101,6 +112,10 @@ pub fn spec(
         (None, None) => vec![params.phase],
     };
     let initials = match (&lists.initials, preset) {
+        _ if lists.initial_slip.is_some() => {
+            let path = lists.initial_slip.as_deref().unwrap_or_default();
+            vec![super::initial_slip(path, params.nodes)?]
+        }
         (Some(t), _) => Initial::parse_list(t).map_err(|e| bad_flag("initial", t, e))?,
         (None, Some(p)) => p.initials.clone(),
         (None, None) => Initial::parse_list(&params.initial)
@@ -112,11 +127,14 @@ pub fn spec(
         "initial" => lists.initials.clone(),
         f => model.given(f),
     };
+    check_grid_size(lambdas.len(), phis.len(), initials.len())?;
     params.load_factor = lambdas[0];
     params.phase = phis[0];
     // The initial paths are already resolved; validate the rest.
     params.initial = "OA".into();
     let case = Case::from_params(&params).map_err(|e| case_error(e, given))?;
+    // Only a valid case is worth a warning about its cost.
+    super::warn_if_slow(params.nodes, params.steps);
     let lists = SweepLists {
         load_factors: lambdas,
         phases: phis,
@@ -125,6 +143,18 @@ pub fn spec(
     let spec =
         SweepSpec::over(&case, &lists).map_err(|e| case_error(CaseError::Param(e), given))?;
     Ok(spec)
+}
+
+/// Refuse a grid of more than [`MAX_RUNS`] runs, before anything of that
+/// size is allocated.
+pub fn check_grid_size(lambdas: usize, phis: usize, initials: usize) -> Result<()> {
+    let runs = lambdas.saturating_mul(phis).saturating_mul(initials);
+    if runs > MAX_RUNS {
+        return Err(anyhow!(super::InputError(format!(
+            "--lambda x --phi x --initial: {lambdas} x {phis} x {initials} = {runs} runs, more than the cap of {MAX_RUNS}: split the grid into several sweeps"
+        ))));
+    }
+    Ok(())
 }
 
 /// A progress bar on stderr when it is a terminal.
@@ -175,15 +205,10 @@ fn key(load_factor: f64, phase: f64, initial: &str) -> String {
     format!("{load_factor},{phase},\"{initial}\"")
 }
 
-/// The key of a CSV line (see [`job_key`]), or `None` when the line is not
-/// a complete row of [`HEADER`]'s seven columns.
-pub fn row_key(line: &str) -> Option<&str> {
-    let open = line.find(",\"")?;
-    let close = open + 2 + line[open + 2..].find('"')?;
-    let (key, rest) = line.split_at(close + 1);
-    let fields: Vec<&str> = rest.strip_prefix(',')?.split(',').collect();
-    let numbers = key[..open].split(',').count() == 2;
-    (numbers && fields.len() == 4 && fields.iter().all(|f| !f.is_empty())).then_some(key)
+/// The key of a CSV line (see [`job_key`]) after validating the whole row
+/// ([`shakedown::io::csv::sweep_row_key`]), or what is wrong with it.
+pub fn row_key(line: &str) -> std::result::Result<&str, String> {
+    shakedown::io::csv::sweep_row_key(line)
 }
 
 /// The jobs of a sweep after `--shard`, and their line keys.
@@ -202,7 +227,19 @@ pub fn shard_jobs(spec: &SweepSpec, shard: Option<&str>) -> Result<(Vec<Job>, Ve
 pub fn sweep(args: SweepArgs) -> Result<ExitCode> {
     let spec = grid_spec(&args.grid)?;
     let (jobs, keys) = shard_jobs(&spec, args.shard.as_deref())?;
-    let mut out = Output::open(args.out.as_deref(), args.resume, HEADER, &keys, row_key)?;
+    if let (Some(out), Some(preset)) = (&args.out, &args.grid.preset) {
+        refuse_input_as_output("--out", out, &[("--preset file", Path::new(preset))])?;
+    }
+    let meta = sweep_metadata(&spec);
+    let mut out = Output::open(
+        args.out.as_deref(),
+        args.resume,
+        args.force,
+        &meta,
+        HEADER,
+        &keys,
+        row_key,
+    )?;
     let todo = &jobs[out.kept..];
     if out.kept > 0 {
         eprintln!(
@@ -266,6 +303,7 @@ mod tests {
                 lambdas: Some("0.5,1e-7".into()),
                 phis: Some("0,pi/3".into()),
                 initials: Some("OA,-7,3".into()),
+                initial_slip: None,
             },
             model: ModelArgs::default(),
         })
@@ -283,11 +321,7 @@ mod tests {
             assert_eq!(row.state(), RowState::Failed);
             let line = row.csv_line();
             assert!(line.contains(",failed,"), "{line}");
-            assert_eq!(
-                row_key(&line),
-                Some(job_key(&spec, &job).as_str()),
-                "{line}"
-            );
+            assert_eq!(row_key(&line), Ok(job_key(&spec, &job).as_str()), "{line}");
         }
         assert_eq!(HEADER.split(',').count(), 7);
     }
@@ -295,11 +329,11 @@ mod tests {
     #[test]
     fn row_key_rejects_incomplete_lines() {
         let line = "5.5,0,\"7,-7\",cyclic-slip,0.001,12,0";
-        assert_eq!(row_key(line), Some("5.5,0,\"7,-7\""));
+        assert_eq!(row_key(line), Ok("5.5,0,\"7,-7\""));
         for cut in 0..line.len() {
-            assert_eq!(row_key(&line[..cut]), None, "{}", &line[..cut]);
+            assert!(row_key(&line[..cut]).is_err(), "{}", &line[..cut]);
         }
-        assert_eq!(row_key("a,b,c,d,e,f,g"), None);
-        assert_eq!(row_key("1,2,3,\"OA\",x,1,2,3"), None);
+        assert!(row_key("a,b,c,d,e,f,g").is_err());
+        assert!(row_key("1,2,3,\"OA\",x,1,2,3").is_err());
     }
 }

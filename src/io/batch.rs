@@ -42,6 +42,7 @@ pub struct Interrupt {
 }
 
 impl Interrupt {
+    /// No request yet.
     pub const fn new() -> Self {
         Self {
             requests: AtomicU8::new(0),
@@ -68,6 +69,7 @@ impl Interrupt {
         self.requests.fetch_max(want, Ordering::SeqCst);
     }
 
+    /// How far the batch has been asked to stop.
     pub fn level(&self) -> StopLevel {
         match self.requests.load(Ordering::SeqCst) {
             0 => StopLevel::Running,
@@ -111,6 +113,7 @@ pub struct Progress {
 }
 
 impl Progress {
+    /// Every job was delivered.
     pub fn is_complete(&self) -> bool {
         self.delivered == self.total
     }
@@ -201,13 +204,20 @@ where
 /// A bad `K/N` shard.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum ShardError {
+    /// Not `K/N`.
     #[error("'{0}' is not a shard: expected K/N with whole numbers 1 <= K <= N (e.g. 3/16)")]
     Syntax(String),
     #[error(
         "shard {index}/{count} is out of range: expected K/N with 1 <= K <= N <= {max}",
         max = Shard::MAX_COUNT
     )]
-    OutOfRange { index: usize, count: usize },
+    /// `K` or `N` out of range.
+    OutOfRange {
+        /// `K`.
+        index: usize,
+        /// `N`.
+        count: usize,
+    },
 }
 
 /// The `K`-th of `N` disjoint slices of a job list (`1 <= K <= N`).
@@ -227,6 +237,11 @@ impl Shard {
     /// Largest number of shards (any batch system's array limit is lower).
     pub const MAX_COUNT: usize = 1_000_000;
 
+    /// The `index`-th of `count` slices.
+    ///
+    /// # Errors
+    ///
+    /// [`ShardError::OutOfRange`] unless `1 <= index <= count <= MAX_COUNT`.
     pub fn new(index: usize, count: usize) -> Result<Self, ShardError> {
         if index == 0 || index > count || count > Self::MAX_COUNT {
             return Err(ShardError::OutOfRange { index, count });
@@ -276,23 +291,47 @@ impl std::fmt::Display for Shard {
 /// An output file that cannot be resumed.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum ResumeError {
-    #[error("it does not start with the header line '{expected}'")]
-    Header { expected: String },
+    /// The header differs.
+    #[error("it does not start with this command's header (comment lines and then '{expected}')")]
+    Header {
+        /// The expected column header.
+        expected: String,
+    },
+    /// Not text.
     #[error("it is not UTF-8 text")]
     NotText,
+    /// A row of another job.
     #[error(
         "line {line} is for {found}, but this command's run number {run} is {expected}: the file comes from different flags"
     )]
     Mismatch {
+        /// 1-based line number.
         line: usize,
+        /// 1-based run number.
         run: usize,
+        /// The row's key.
         found: String,
+        /// The job's key.
         expected: String,
     },
-    #[error("line {line} is not a complete row: '{text}'")]
-    Malformed { line: usize, text: String },
+    /// A row that does not validate.
+    #[error("line {line} is not a valid row ({why}): '{text}'")]
+    Malformed {
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        why: String,
+        /// The line, escaped.
+        text: String,
+    },
+    /// More rows than jobs.
     #[error("it has {found} rows, more than the {jobs} runs of this command")]
-    TooMany { found: usize, jobs: usize },
+    TooMany {
+        /// Rows found.
+        found: usize,
+        /// Jobs of the command.
+        jobs: usize,
+    },
 }
 
 /// Where an interrupted output file resumes.
@@ -307,9 +346,11 @@ pub struct ResumePoint {
     pub has_header: bool,
 }
 
-/// Read an interrupted output: the header, then complete lines (ending in
-/// a newline) whose keys are `keys[0], keys[1], ...` in order. `key_of`
-/// extracts a line's key, or `None` for a malformed line. A last line
+/// Read an interrupted output: the header (which may span several lines,
+/// such as `# key = value` comment lines and the column names), then
+/// complete lines (ending in a newline) whose keys are `keys[0], keys[1],
+/// ...` in order. `key_of` validates a line and extracts its key, or says
+/// what is wrong with it. A last line
 /// without its newline was cut by the interruption and is dropped; any
 /// other mismatch is an error, so that a file from other flags is never
 /// overwritten.
@@ -317,8 +358,9 @@ pub fn resume_point<K: AsRef<str>>(
     content: &[u8],
     header: &str,
     keys: &[K],
-    key_of: impl Fn(&str) -> Option<&str>,
+    key_of: impl Fn(&str) -> Result<&str, String>,
 ) -> Result<ResumePoint, ResumeError> {
+    let header_lines = header.matches('\n').count() + 1;
     let text = std::str::from_utf8(content).or_else(|e| {
         // A multi-byte character cut at the very end is an interrupted
         // write; anything else is not our file.
@@ -338,7 +380,7 @@ pub fn resume_point<K: AsRef<str>>(
             });
         }
         return Err(ResumeError::Header {
-            expected: header.to_string(),
+            expected: header.lines().last().unwrap_or_default().to_string(),
         });
     }
     let mut bytes = header_line.len();
@@ -346,10 +388,11 @@ pub fn resume_point<K: AsRef<str>>(
     let mut rest = &text[bytes..];
     while let Some(end) = rest.find('\n') {
         let line = &rest[..end];
-        let number = kept + 2;
-        let key = key_of(line).ok_or_else(|| ResumeError::Malformed {
+        let number = kept + header_lines + 1;
+        let key = key_of(line).map_err(|why| ResumeError::Malformed {
             line: number,
-            text: line.chars().take(120).collect(),
+            why,
+            text: crate::io::read::escape_text(line, 120),
         })?;
         let Some(expected) = keys.get(kept) else {
             return Err(ResumeError::TooMany {
@@ -379,28 +422,52 @@ pub fn resume_point<K: AsRef<str>>(
 /// Shard outputs that do not merge into the full output.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum MergeError {
-    #[error("{file}: it does not start with the header line '{expected}'")]
-    Header { file: String, expected: String },
-    #[error("{file}: it is not UTF-8 text")]
-    NotText { file: String },
-    #[error("{file} line {line}: not a complete row: '{text}'")]
-    Malformed {
+    /// An input's header differs.
+    #[error("{file}: it does not start with this command's header (comment lines and then '{expected}')")]
+    Header {
+        /// The input.
         file: String,
+        /// The expected column header.
+        expected: String,
+    },
+    /// An input is not text.
+    #[error("{file}: it is not UTF-8 text")]
+    NotText {
+        /// The input.
+        file: String,
+    },
+    /// A row that does not validate.
+    #[error("{file} line {line}: not a valid row ({why}): '{text}'")]
+    Malformed {
+        /// The input.
+        file: String,
+        /// 1-based line number.
         line: usize,
+        /// What is wrong.
+        why: String,
+        /// The line, escaped.
         text: String,
     },
+    /// A row of no job, or of a job already found.
     #[error("{file} line {line}: {key} is not a run of these flags, or it appears twice")]
     Unexpected {
+        /// The input.
         file: String,
+        /// 1-based line number.
         line: usize,
+        /// The row's key.
         key: String,
     },
+    /// Jobs in no input.
     #[error(
         "{missing} of {total} runs are in none of the files (the first is {first}): finish every shard (sweep --shard K/N --resume) and merge again"
     )]
     Missing {
+        /// Jobs missing.
         missing: usize,
+        /// Jobs in all.
         total: usize,
+        /// The first missing job's key.
         first: String,
     },
 }
@@ -416,8 +483,9 @@ pub fn merge<K: AsRef<str>>(
     header: &str,
     keys: &[K],
     inputs: &[(String, Vec<u8>)],
-    key_of: impl Fn(&str) -> Option<&str>,
+    key_of: impl Fn(&str) -> Result<&str, String>,
 ) -> Result<String, MergeError> {
+    let header_lines = header.matches('\n').count() + 1;
     let mut slots: HashMap<&str, VecDeque<usize>> = HashMap::new();
     for (i, k) in keys.iter().enumerate() {
         slots.entry(k.as_ref()).or_default().push_back(i);
@@ -431,18 +499,19 @@ pub fn merge<K: AsRef<str>>(
             .strip_prefix(&header_line)
             .ok_or_else(|| MergeError::Header {
                 file: file.clone(),
-                expected: header.to_string(),
+                expected: header.lines().last().unwrap_or_default().to_string(),
             })?;
         // Only complete lines: split_inclusive keeps the newline.
         for (n, line) in body.split_inclusive('\n').enumerate() {
             let Some(line) = line.strip_suffix('\n') else {
                 break;
             };
-            let number = n + 2;
-            let key = key_of(line).ok_or_else(|| MergeError::Malformed {
+            let number = n + header_lines + 1;
+            let key = key_of(line).map_err(|why| MergeError::Malformed {
                 file: file.clone(),
                 line: number,
-                text: line.chars().take(120).collect(),
+                why,
+                text: crate::io::read::escape_text(line, 120),
             })?;
             let slot = slots
                 .get_mut(key)
@@ -477,8 +546,10 @@ mod tests {
     use super::*;
 
     /// Lines `key,value`; the key is the first field.
-    fn key_of(line: &str) -> Option<&str> {
-        line.split_once(',').map(|(k, _)| k)
+    fn key_of(line: &str) -> Result<&str, String> {
+        line.split_once(',')
+            .map(|(k, _)| k)
+            .ok_or_else(|| "no comma".to_string())
     }
 
     fn full(keys: &[&str]) -> String {

@@ -1,7 +1,11 @@
-//! Input and output: parsing of numbers and angles, presets (TOML), and
-//! the batch machinery (ordered parallel runs, interrupts, shards, resume,
-//! merge).
+//! Input and output: parsing of numbers and angles, presets (TOML), the
+//! batch machinery (ordered parallel runs, interrupts, shards, resume,
+//! merge), the CSV codec with its `# key = value` header, and safe file
+//! handling (capped reads, atomic writes, output locks).
 
 pub mod batch;
+pub mod csv;
+pub mod output;
 pub mod parse;
 pub mod preset;
+pub mod read;

@@ -52,7 +52,12 @@ pub fn parse_angle(text: &str) -> Result<f64, ParseError> {
     };
     let (coef, rest) = t.split_at(at);
     let rest = &rest[2..];
-    let coef = coef.strip_suffix('*').unwrap_or(coef);
+    let coef = match coef.strip_suffix('*') {
+        // `*pi`, `-*pi`: a product needs a coefficient.
+        Some("" | "+" | "-") => return Err(err()),
+        Some(c) => c,
+        None => coef,
+    };
     let k = match coef {
         "" | "+" => 1.0,
         "-" => -1.0,
@@ -166,7 +171,9 @@ mod tests {
         assert!(close(parse_angle("PI").unwrap(), PI));
         assert!(close(parse_angle("1.25").unwrap(), 1.25));
         assert!(close(parse_angle(" -pi ").unwrap(), -PI));
-        for bad in ["abc", "", "pi/0", "2pi3", "nan", "inf", "pipi", "1e999"] {
+        for bad in [
+            "abc", "", "pi/0", "2pi3", "nan", "inf", "pipi", "1e999", "*pi", "-*pi",
+        ] {
             assert!(parse_angle(bad).is_err(), "{bad}");
         }
     }

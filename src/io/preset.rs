@@ -112,15 +112,20 @@ pub fn builtin_names() -> String {
 pub fn load(name: &str) -> Result<Preset, PresetError> {
     let looks_like_path = name.contains('/') || name.contains('\\') || name.ends_with(".toml");
     if looks_like_path {
-        let text = std::fs::read_to_string(name).map_err(|e| PresetError::Read {
-            file: name.to_string(),
+        let shown = crate::io::read::escape_text(name, 200);
+        let text = crate::io::read::read_text_capped(
+            std::path::Path::new(name),
+            crate::io::read::MAX_PRESET_BYTES,
+        )
+        .map_err(|e| PresetError::Read {
+            file: shown.clone(),
             message: e.to_string(),
         })?;
         let stem = std::path::Path::new(name)
             .file_stem()
             .and_then(|s| s.to_str())
             .unwrap_or(name);
-        return parse(&text, name, stem);
+        return parse(&text, &shown, stem);
     }
     let found = BUILTIN
         .iter()
@@ -239,6 +244,13 @@ impl Values {
         let out = match self {
             Values::One(Num::Number(v)) => vec![*v],
             Values::One(Num::Text(t)) => parse_values(t, &item).map_err(|e| e.to_string())?,
+            Values::Many(items) if items.len() > crate::io::parse::MAX_VALUES => {
+                return Err(format!(
+                    "the list has {} values: at most {} are allowed",
+                    items.len(),
+                    crate::io::parse::MAX_VALUES
+                ))
+            }
             Values::Many(items) => items
                 .iter()
                 .map(|n| match n {
@@ -353,6 +365,14 @@ pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Preset, Prese
         if n.get_ref().trim().is_empty() {
             return Err(ctx.at(n.span(), "name: must not be empty"));
         }
+    }
+    // The name becomes a file name (`figure`): it must stay in its folder.
+    if let Err(why) = crate::io::output::check_file_stem(&name) {
+        let shown = crate::io::read::escape_text(&name, 60);
+        return Err(match &raw.name {
+            Some(n) => ctx.at(n.span(), format!("name '{shown}': {why}")),
+            None => ctx.whole(format!("name '{shown}' (from the file name): {why}")),
+        });
     }
     let description = raw.description.get_ref().trim().to_string();
     if description.is_empty() || description.contains('\n') {
@@ -529,6 +549,19 @@ fn sweep_lists(ctx: &Ctx, s: &SweepToml, p: &CaseParams) -> Result<SweepLists, P
             Initial::parse_list(&p.initial).map_err(|e| ctx.whole(format!("case.initial: {e}")))?
         }
     };
+    let runs = load_factors
+        .len()
+        .saturating_mul(phases.len())
+        .saturating_mul(initials.len());
+    if runs > crate::analysis::sweep::MAX_RUNS {
+        return Err(ctx.whole(format!(
+            "sweep: lambda x phi x initial = {} x {} x {} = {runs} runs, more than the cap of {}",
+            load_factors.len(),
+            phases.len(),
+            initials.len(),
+            crate::analysis::sweep::MAX_RUNS
+        )));
+    }
     Ok(SweepLists {
         load_factors,
         phases,

@@ -150,10 +150,12 @@ impl Initial {
         let (Ok(a), Ok(b)) = (parts[0].parse::<i32>(), parts[1].parse::<i32>()) else {
             return Err(PathError::Unknown(text.to_string()));
         };
-        if a.abs() + b.abs() <= 8 && a.abs() <= 8 && b.abs() <= 8 {
+        // unsigned_abs: `i32::MIN.abs()` overflows.
+        let (ua, ub) = (u64::from(a.unsigned_abs()), u64::from(b.unsigned_abs()));
+        if ua + ub <= 8 {
             return Err(PathError::InsideStick(a, b));
         }
-        let ok = |v: i32| matches!(v.abs(), 3 | 5 | 7);
+        let ok = |v: i32| matches!(v.unsigned_abs(), 3 | 5 | 7);
         if !ok(a) || !ok(b) {
             return Err(PathError::NotPaperPoint(a, b));
         }

@@ -32,7 +32,8 @@ pub fn scratch(name: &str) -> PathBuf {
 /// this project's CSV except in the `initial` column, which is quoted).
 pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
+    // `# key = value` lines say what made the file; the table follows.
+    let mut lines = text.lines().skip_while(|l| l.starts_with('#'));
     let header = lines
         .next()
         .expect("a header")
