@@ -299,9 +299,9 @@ pub struct TuiArgs {
     pub ascii: bool,
     /// Memory for the run's history, in MiB; older detail is decimated,
     /// then dropped, to stay within it.
-    #[arg(long, value_name = "MIB", default_value_t = shakedown::tui::app::DEFAULT_HISTORY_MB,
-          value_parser = clap::value_parser!(u32).range(8..=65536).map(|v| v as usize))]
-    pub history_mb: usize,
+    #[arg(long, value_name = "MIB", default_value_t = shakedown::tui::app::DEFAULT_HISTORY_MB as u64,
+          value_parser = clap::value_parser!(u64).range(8..=65536))]
+    pub history_mb: u64,
 }
 
 /// Parse the command line, run it, and map errors to exit codes: 2 for bad
@@ -327,7 +327,7 @@ pub fn main() -> ExitCode {
     };
     let result = match cli.command {
         None => tui(TuiArgs {
-            history_mb: shakedown::tui::app::DEFAULT_HISTORY_MB,
+            history_mb: shakedown::tui::app::DEFAULT_HISTORY_MB as u64,
             ..TuiArgs::default()
         }),
         Some(Command::Run(a)) => run::run(a),
@@ -395,7 +395,7 @@ fn tui(args: TuiArgs) -> Result<ExitCode> {
     shakedown::tui::terminal::check_tty().map_err(|e| anyhow!(InputError(e.to_string())))?;
     let mut config = shakedown::tui::app::Config::from_env();
     config.ascii |= args.ascii;
-    config.history_bytes = args.history_mb << 20;
+    config.history_bytes = usize::try_from(args.history_mb << 20).unwrap_or(usize::MAX);
     let code = shakedown::tui::run_with(case, preset, config)?;
     Ok(ExitCode::from(code))
 }

@@ -160,6 +160,7 @@ pub struct App {
     sweep_log_w: bool,
     sweep_saved: bool,
     suspend: bool,
+    save_dir: std::path::PathBuf,
 }
 
 impl App {
@@ -227,6 +228,7 @@ impl App {
             sweep_log_w: true,
             sweep_saved: false,
             suspend: false,
+            save_dir: std::path::PathBuf::from("."),
         };
         app.send_restart();
         app
@@ -401,6 +403,11 @@ impl App {
     /// For tests and tools that feed rows in themselves.
     pub fn sweep_mut(&mut self) -> Option<&mut Sweep> {
         self.sweep.as_mut().ok()
+    }
+    /// Where `s` in the sweep view saves the map (the current directory
+    /// unless changed).
+    pub fn set_save_dir(&mut self, dir: impl Into<std::path::PathBuf>) {
+        self.save_dir = dir.into();
     }
     /// Ctrl-Z was pressed: the loop, which owns the terminal, suspends.
     pub fn take_suspend(&mut self) -> bool {
@@ -652,7 +659,11 @@ impl App {
         let Ok(s) = &self.sweep else {
             return;
         };
-        let path = format!("sweep-{}.csv", s.source().name);
+        let path = self
+            .save_dir
+            .join(format!("sweep-{}.csv", s.source().name))
+            .display()
+            .to_string();
         let mut text = String::from(crate::analysis::sweep::CSV_HEADER);
         text.push('\n');
         for row in s.rows() {
@@ -1067,10 +1078,20 @@ impl App {
         self.sent = None;
     }
 
-    /// Wait until the worker has answered everything sent so far, then
-    /// take it all (tests).
+    /// Wait until the worker has finished what it was last asked (a run
+    /// that goes on for ever is paused first), and take all it sent:
+    /// what tests use after a key that steps.
     pub fn settle(&mut self) {
-        self.advance(0);
+        if matches!(self.sent, Some(worker::Goal::Paced(_))) || self.sent.is_none() {
+            self.advance(0);
+            return;
+        }
+        while self.sent.is_some() {
+            match self.worker.recv() {
+                Some(r) => self.take(r),
+                None => break,
+            }
+        }
     }
 
     /// Whether the loop has stepping to do (else it can sleep longer).
@@ -1081,6 +1102,21 @@ impl App {
             return true;
         }
         self.sent.is_some() || self.view == View::Stepping && (self.running || self.goal.is_some())
+    }
+
+    /// File `record` as if the worker had sent it (its generation is set
+    /// to the current run's): tests drive a fixed, synthetic state with it,
+    /// so screen snapshots hold no solver numbers.
+    pub fn feed(&mut self, mut record: Record) {
+        record.generation = self.generation;
+        self.file(record);
+    }
+
+    /// Set the transient and friction coefficient as the worker's start of
+    /// a run does (tests, with [`App::feed`]).
+    pub fn feed_started(&mut self, transient: Vec<Segment>, friction: f64) {
+        self.transient = transient;
+        self.friction = friction;
     }
 
     fn take(&mut self, reply: Reply) {

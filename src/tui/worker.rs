@@ -128,17 +128,13 @@ impl Worker {
 
 impl Drop for Worker {
     fn drop(&mut self) {
+        // Closing both channels ends the thread: at its next command wait,
+        // its next send, or its next check between increments. It is not
+        // joined, so quitting never waits on an increment in progress.
         self.tx = None;
-        // Unblock a send waiting on a full channel, then let it see the
-        // closed command channel.
-        while self.rx.try_recv().is_ok() {}
-        if let Some(t) = self.thread.take() {
-            // Closing the reply channel ends a drive at its next send.
-            let (_, dead) = mpsc::sync_channel(0);
-            let rx = std::mem::replace(&mut self.rx, dead);
-            drop(rx);
-            let _ = t.join();
-        }
+        let (_, dead) = mpsc::sync_channel(0);
+        drop(std::mem::replace(&mut self.rx, dead));
+        drop(self.thread.take());
     }
 }
 
