@@ -290,7 +290,9 @@ pub struct InputError(pub String);
 /// The explorer opens on the paper's Fig. 3 case at lambda = 6 (phi = 0)
 /// through the transient `7,-7`, unless the case flags say otherwise.
 #[derive(Debug, Args, Default)]
-#[command(after_help = "Defaults for tui: --lambda 6 --phi 0 --initial 7,-7 (the paper's Fig. 3, cyclic slip).\nASCII drawing is automatic for TERM=linux, vt100 and dumb; NO_COLOR turns colour off.")]
+#[command(
+    after_help = "Defaults for tui: --lambda 6 --phi 0 --initial 7,-7 (the paper's Fig. 3, cyclic slip).\nASCII drawing is automatic for TERM=linux, vt100 and dumb; NO_COLOR turns colour off."
+)]
 pub struct TuiArgs {
     #[command(flatten)]
     pub case: CaseArgs,

@@ -15,8 +15,8 @@ use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 pub use super::format::{
     format_load_factor, format_phase, format_sci, node_theta, plural, PHASE_STEP,
 };
-pub use super::history::{Detail, Record, BACKWARD, DIRECTION_MASK, FORWARD, NEWLY_STUCK, STICK};
 use super::history::History;
+pub use super::history::{Detail, Record, BACKWARD, DIRECTION_MASK, FORWARD, NEWLY_STUCK, STICK};
 use super::keys::{self, Action, Mode};
 use super::log::{EventKind, Filter, LogEntry, KINDS, MIN_NODES};
 use super::sweep::{LimitState, Sweep, SweepSource};
@@ -499,7 +499,10 @@ impl App {
             Action::PrevEvent => self.jump_event(false),
             Action::NextEvent => self.jump_event(true),
             Action::EventKind => {
-                let i = KINDS.iter().position(|k| *k == self.filter.kind).unwrap_or(0);
+                let i = KINDS
+                    .iter()
+                    .position(|k| *k == self.filter.kind)
+                    .unwrap_or(0);
                 self.filter.kind = KINDS[(i + 1) % KINDS.len()];
                 self.log_selected = 0;
                 self.filter_changed();
@@ -692,8 +695,9 @@ impl App {
     }
 
     fn send_filter(&self) {
-        self.worker
-            .send(Command::PauseOn(self.pause_on_events.then_some(self.filter)));
+        self.worker.send(Command::PauseOn(
+            self.pause_on_events.then_some(self.filter),
+        ));
     }
 
     fn move_log(&mut self, delta: isize) {
@@ -820,9 +824,13 @@ impl App {
     /// `lambda = 5.13`, `phi = pi/4` (or radians), `path = OA`.
     fn apply_entry(&mut self, text: &str) {
         let (name, value) = match text.split_once(['=', ' ']) {
-            Some((n, v)) => (n.trim().to_lowercase(), v.trim().trim_start_matches('=').trim()),
+            Some((n, v)) => (
+                n.trim().to_lowercase(),
+                v.trim().trim_start_matches('=').trim(),
+            ),
             None => {
-                self.notice = Some("type name = value: lambda = 5.13, phi = pi/4, path = OA".into());
+                self.notice =
+                    Some("type name = value: lambda = 5.13, phi = pi/4, path = OA".into());
                 return;
             }
         };
@@ -834,15 +842,17 @@ impl App {
                 _ => self.notice = Some(format!("not a lambda: {value}")),
             },
             "phi" | "p" | "φ" => match parse_phase(value) {
-                Some(v) => self.change_cycle(
-                    self.load_factor(),
-                    v,
-                    format!("phi {}", format_phase(v)),
-                ),
+                Some(v) => {
+                    self.change_cycle(self.load_factor(), v, format!("phi {}", format_phase(v)))
+                }
                 None => self.notice = Some(format!("not a phase: {value}")),
             },
             "path" | "initial" => {
-                match self.paths.iter().position(|p| p.name().eq_ignore_ascii_case(value)) {
+                match self
+                    .paths
+                    .iter()
+                    .position(|p| p.name().eq_ignore_ascii_case(value))
+                {
                     Some(i) => {
                         self.path_index = i;
                         self.case.initial = self.paths[i].clone();
@@ -924,7 +934,11 @@ impl App {
             self.notice = Some("lambda cannot go below 0".into());
             return;
         }
-        self.change_cycle(new, self.phase(), format!("lambda {}", format_load_factor(new)));
+        self.change_cycle(
+            new,
+            self.phase(),
+            format!("lambda {}", format_load_factor(new)),
+        );
     }
 
     fn change_phase(&mut self, sign: f64) {
@@ -940,7 +954,11 @@ impl App {
         } else if new <= -PI + 1e-9 {
             new += 2.0 * PI;
         }
-        self.change_cycle(self.load_factor(), new, format!("phi {}", format_phase(new)));
+        self.change_cycle(
+            self.load_factor(),
+            new,
+            format!("phi {}", format_phase(new)),
+        );
     }
 
     fn change_cycle(&mut self, load_factor: f64, phase: f64, what: String) {
@@ -1180,9 +1198,8 @@ impl App {
             Stopped::Memory => {
                 self.running = false;
                 self.goal = None;
-                self.notice = Some(
-                    "paused: the steady run's cycle records reached the memory budget".into(),
-                );
+                self.notice =
+                    Some("paused: the steady run's cycle records reached the memory budget".into());
             }
             Stopped::Cancelled => {}
         }

@@ -329,7 +329,7 @@ pub const BINDINGS: &[Binding] = &[
         keys: &[ch('m')],
         label: "m",
         action: Action::MinNodes,
-        help: "stick of at least 1, 2, 4.. nodes",
+        help: "advancing stick >= 1, 2, 4..",
         scope: Scope::All,
     },
     Binding {
@@ -350,7 +350,7 @@ pub const BINDINGS: &[Binding] = &[
         keys: &[ch('p')],
         label: "p",
         action: Action::Pin,
-        help: "pin this run to compare / unpin",
+        help: "pin run to compare / unpin",
         scope: Scope::Stepping,
     },
     Binding {
@@ -612,7 +612,10 @@ mod tests {
     #[test]
     fn arrows_mean_different_things_per_mode() {
         let right = KeyEvent::new(KeyCode::Right, KeyModifiers::NONE);
-        assert_eq!(action_for(&right, Mode::Stepping), Some(Action::LoadFactorUp));
+        assert_eq!(
+            action_for(&right, Mode::Stepping),
+            Some(Action::LoadFactorUp)
+        );
         assert_eq!(action_for(&right, Mode::Sweep), Some(Action::SweepNextX));
         let up = KeyEvent::new(KeyCode::Up, KeyModifiers::NONE);
         assert_eq!(action_for(&up, Mode::Log), Some(Action::LogUp));

@@ -202,7 +202,11 @@ pub fn entries(events: &[Event], at: At, directions: &[SlipDirection]) -> Vec<Lo
                     EventKind::State,
                     0,
                     None,
-                    format!("gross slip at load point ({:.3}, {:.3})", load.x(), load.y()),
+                    format!(
+                        "gross slip at load point ({:.3}, {:.3})",
+                        load.x(),
+                        load.y()
+                    ),
                 );
                 e.load = (load.x(), load.y());
                 e.time = time.or(e.time);

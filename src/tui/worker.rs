@@ -33,10 +33,7 @@ pub enum Goal {
 #[derive(Debug)]
 pub enum Command {
     /// A new run on `case`; records of older generations are stale.
-    Restart {
-        generation: u64,
-        case: Box<Case>,
-    },
+    Restart { generation: u64, case: Box<Case> },
     /// Step towards `goal`; `Stopped` answers with the same `seq`.
     Go { seq: u64, goal: Goal },
     /// Stop stepping (the drive in progress, if any, answers `Stopped`).
@@ -406,8 +403,8 @@ fn make_record(s: &Stepper, report: &StepReport, generation: u64, before: &[f32]
         load,
     };
     let events = log::entries(&report.events, at, c.directions());
-    let slip_before = (!report.newly_stuck.is_empty() && before.len() == c.nodes())
-        .then(|| before.to_vec());
+    let slip_before =
+        (!report.newly_stuck.is_empty() && before.len() == c.nodes()).then(|| before.to_vec());
     Record {
         generation,
         increment,

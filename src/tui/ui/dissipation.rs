@@ -93,7 +93,11 @@ impl Widget for Dissipation<'_> {
             bottom.push(Span::styled(format!("{} ", format_sci(w)), theme.value()));
         }
         let chart = Chart::new(datasets)
-            .block(theme.panel(" Dissipation W ").title_bottom(Line::from(bottom)))
+            .block(
+                theme
+                    .panel(" Dissipation W ")
+                    .title_bottom(Line::from(bottom)),
+            )
             .legend_position(None)
             .x_axis(
                 Axis::default()

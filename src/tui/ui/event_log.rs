@@ -107,7 +107,9 @@ impl Widget for EventLog<'_> {
                 (width, 2)
             };
             let style = if i == selected {
-                theme.value().add_modifier(ratatui::style::Modifier::REVERSED)
+                theme
+                    .value()
+                    .add_modifier(ratatui::style::Modifier::REVERSED)
             } else {
                 theme.label()
             };

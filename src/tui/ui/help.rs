@@ -43,6 +43,8 @@ impl Widget for Help<'_> {
                 Line::from(Span::styled(b.help, theme.label())),
             ])
         });
+        let two = bindings.len() as u16 + 2 > area.height
+            && area.width >= 2 * (key_width + help_width) + 5;
         let (rect, rows): (Rect, Vec<Row>) = if bindings.len() as u16 + 2 > area.height
             && area.width >= 2 * (key_width + help_width) + 5
         {
@@ -57,12 +59,15 @@ impl Widget for Help<'_> {
             let pairs = (0..half)
                 .map(|i| {
                     let cell = |j: usize| {
-                        bindings.get(j).map_or((Line::from(""), Line::from("")), |b| {
-                            (
-                                Line::from(Span::styled(b.label, theme.value())).right_aligned(),
-                                Line::from(Span::styled(b.help, theme.label())),
-                            )
-                        })
+                        bindings
+                            .get(j)
+                            .map_or((Line::from(""), Line::from("")), |b| {
+                                (
+                                    Line::from(Span::styled(b.label, theme.value()))
+                                        .right_aligned(),
+                                    Line::from(Span::styled(b.help, theme.label())),
+                                )
+                            })
                     };
                     let (a, b) = cell(i);
                     let (c, d) = cell(i + half);
@@ -73,12 +78,16 @@ impl Widget for Help<'_> {
         } else {
             (rect, rows.collect())
         };
-        let widths = [
-            Constraint::Length(key_width),
-            Constraint::Length(help_width),
-            Constraint::Length(key_width),
-            Constraint::Fill(1),
-        ];
+        let widths: Vec<Constraint> = if two {
+            vec![
+                Constraint::Length(key_width),
+                Constraint::Length(help_width),
+                Constraint::Length(key_width),
+                Constraint::Fill(1),
+            ]
+        } else {
+            vec![Constraint::Length(key_width), Constraint::Fill(1)]
+        };
         let title = match self.mode {
             Mode::Stepping => " Keys: stepping view ",
             Mode::Sweep => " Keys: sweep view ",

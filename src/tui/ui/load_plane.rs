@@ -52,9 +52,10 @@ fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Them
         _ => None,
     };
 
-    let block = theme
-        .panel(" Load plane ")
-        .title_bottom(TextLine::from(theme.sym(" x = χP/f, y = T/f ", " x = chi P/f, y = T/f ")).style(theme.label()));
+    let block = theme.panel(" Load plane ").title_bottom(
+        TextLine::from(theme.sym(" x = χP/f, y = T/f ", " x = chi P/f, y = T/f "))
+            .style(theme.label()),
+    );
     let inner = block.inner(area);
     let (x_bounds, y_bounds) = bounds(
         inner,
@@ -106,7 +107,11 @@ fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Them
             // Text goes on top of every layer, in the order printed.
             ctx.print(x_bounds[1], 0.0, Span::styled("x", label_style));
             ctx.print(0.0, y_bounds[1], Span::styled("y", label_style));
-            ctx.print(TWO_PI, 0.0, Span::styled(theme.sym("2π", "2pi"), label_style));
+            ctx.print(
+                TWO_PI,
+                0.0,
+                Span::styled(theme.sym("2π", "2pi"), label_style),
+            );
             if roomy {
                 ctx.print(x_bounds[0], TWO_PI, Span::styled("gross slip", label_style));
             }
@@ -132,7 +137,11 @@ fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Them
             if let Some((x, y)) = terminal {
                 ctx.print(x, y, Span::styled("G", gross_style));
             }
-            ctx.print(load_x, load_y, Span::styled(theme.sym("●", "@"), point_style));
+            ctx.print(
+                load_x,
+                load_y,
+                Span::styled(theme.sym("●", "@"), point_style),
+            );
         });
     ratatui::widgets::Widget::render(canvas, area, buf);
 }

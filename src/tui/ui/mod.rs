@@ -21,7 +21,6 @@ use ratatui::Frame;
 
 use super::app::{App, View};
 
-
 /// The smallest terminal the layout is made for.
 pub const MIN_WIDTH: u16 = 80;
 pub const MIN_HEIGHT: u16 = 24;
@@ -85,7 +84,9 @@ pub fn asciify(buf: &mut Buffer) {
             '\u{2801}'..='\u{28FF}' => ".",
             '─' | '━' | '┄' | '╌' | '–' | '—' => "-",
             '│' | '┃' | '┆' | '╎' => "|",
-            '╭' | '╮' | '╰' | '╯' | '┌' | '┐' | '└' | '┘' | '┼' | '├' | '┤' | '┬' => "+",
+            '╭' | '╮' | '╰' | '╯' | '┌' | '┐' | '└' | '┘' | '┼' | '├' | '┤' | '┬' => {
+                "+"
+            }
             '┴' | '▲' => "^",
             '·' | '•' => ".",
             '×' | '✚' => "x",

@@ -109,7 +109,10 @@ impl Widget for Slip<'_> {
                 })
                 .fold(0.0, f64::max);
             Line::from(vec![
-                Span::styled(format!(" {STUCK_GLYPH} locked in, dg up to "), theme.newly_stuck()),
+                Span::styled(
+                    format!(" {STUCK_GLYPH} locked in, dg up to "),
+                    theme.newly_stuck(),
+                ),
                 Span::styled(format!("{} ", format_sci(change)), theme.value()),
                 Span::styled("(grey: before) ", theme.label()),
             ])

@@ -9,9 +9,9 @@ use std::f64::consts::PI;
 
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
+use ratatui::style::Modifier;
 use ratatui::style::Style;
 use ratatui::text::{Line, Span};
-use ratatui::style::Modifier;
 use ratatui::widgets::Widget;
 
 use super::Theme;
@@ -99,17 +99,32 @@ fn draw_map(
         .map(|j| (((PI - node_theta(j, nodes)) / band) as usize).min(rows - 1))
         .collect();
     let labels = if theme.ascii() {
-        [("pi", PI), ("pi/2", PI / 2.0), ("0", 0.0), ("-pi/2", -PI / 2.0), ("-pi", -PI)]
+        [
+            ("pi", PI),
+            ("pi/2", PI / 2.0),
+            ("0", 0.0),
+            ("-pi/2", -PI / 2.0),
+            ("-pi", -PI),
+        ]
     } else {
-        [("π", PI), ("π/2", PI / 2.0), ("0", 0.0), ("-π/2", -PI / 2.0), ("-π", -PI)]
+        [
+            ("π", PI),
+            ("π/2", PI / 2.0),
+            ("0", 0.0),
+            ("-π/2", -PI / 2.0),
+            ("-π", -PI),
+        ]
     };
     for (label, theta) in labels {
         if rows < 7 && label.contains('/') {
             continue;
         }
         let row = (((PI - theta) / band) as usize).min(rows - 1);
-        let text = format!("{label:>4}");
-        let text = format!("{:>5}", &text[text.len().saturating_sub(5)..]);
+        let text = if label.chars().count() <= 4 {
+            format!("{label:>4} ")
+        } else {
+            format!("{label:>5}")
+        };
         buf.set_string(inner.x, inner.y + row as u16, text, theme.label());
     }
     buf.set_string(inner.x, axis_y, theme.sym(" θ↑ ", " th "), theme.label());
@@ -230,7 +245,12 @@ fn draw_map(
     }
     if let (Some(c), Some(col)) = (cursor, shown_col) {
         if col < columns {
-            buf.set_string(map_x + col as u16, axis_y, theme.sym("▲", "^"), theme.alert());
+            buf.set_string(
+                map_x + col as u16,
+                axis_y,
+                theme.sym("▲", "^"),
+                theme.alert(),
+            );
             let _ = c;
         }
     }

@@ -44,11 +44,9 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
         label(format!(" ({}/{})", app.path_index() + 1, app.paths().len()).as_str()),
     ]);
     if wide {
-        line1.spans.extend([
-            sep(),
-            label("N "),
-            value(case.disc.nodes().to_string()),
-        ]);
+        line1
+            .spans
+            .extend([sep(), label("N "), value(case.disc.nodes().to_string())]);
     }
 
     let shown = app.shown();
@@ -177,9 +175,10 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
         }
         // At a history instant, its own events; live, the last one.
         let event = match (app.cursor(), shown) {
-            (Some(_), Some(r)) => r.events.first().map(|e| {
-                format!("{} (theta/pi {})", e.text, format_theta(e.theta))
-            }),
+            (Some(_), Some(r)) => r
+                .events
+                .first()
+                .map(|e| format!("{} (theta/pi {})", e.text, format_theta(e.theta))),
             _ => app.last_event().map(str::to_string),
         };
         spans.push(label("event: "));

@@ -137,7 +137,10 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme, log:
         .filter(|w| w.is_finite() && *w > 0.0)
         .fold(f64::INFINITY, f64::min);
     let (d0, d1) = if w_min.is_finite() {
-        (w_min.log10().floor(), w_max.log10().ceil().max(w_min.log10().floor() + 1.0))
+        (
+            w_min.log10().floor(),
+            w_max.log10().ceil().max(w_min.log10().floor() + 1.0),
+        )
     } else {
         (-6.0, -1.0)
     };
@@ -390,7 +393,10 @@ fn render_details(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
             };
             let mark = if other.index == job.index { ">" } else { " " };
             lines.push(Line::from(vec![
-                Span::styled(format!(" {mark}{:<8}", sweep.initial(other).name()), theme.label()),
+                Span::styled(
+                    format!(" {mark}{:<8}", sweep.initial(other).name()),
+                    theme.label(),
+                ),
                 Span::styled(format!("{glyph} "), theme.value()),
                 Span::styled(w, theme.value()),
             ]));

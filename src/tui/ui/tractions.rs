@@ -21,7 +21,10 @@ pub struct Tractions<'a> {
 impl Widget for Tractions<'_> {
     fn render(self, area: Rect, buf: &mut Buffer) {
         let (app, theme) = (self.app, self.theme);
-        let title = theme.sym(" Tractions q(θ), ±f p(θ) ", " Tractions q(theta), +-f p(theta) ");
+        let title = theme.sym(
+            " Tractions q(θ), ±f p(θ) ",
+            " Tractions q(theta), +-f p(theta) ",
+        );
         let Some((record, detail)) = app.shown_detail() else {
             theme.panel(title).render(area, buf);
             return;
