@@ -63,7 +63,7 @@ fn synthetic(i: usize, n: usize) -> Record {
     };
     let t = 2.0 * PI * (i as f64) / steps as f64;
     let theta = |j: usize| 2.0 * PI * j as f64 / n as f64;
-    let stuck: Vec<usize> = if i % 37 == 0 {
+    let stuck: Vec<usize> = if i.is_multiple_of(37) {
         (10..15).collect()
     } else {
         Vec::new()
@@ -106,7 +106,7 @@ fn synthetic(i: usize, n: usize) -> Record {
             text: "advancing stick at 5 nodes (3 sub-increments)".into(),
         });
     }
-    if i % 50 == 0 {
+    if i.is_multiple_of(50) {
         events.push(LogEntry {
             kind: EventKind::Split,
             increment: i,

@@ -31,7 +31,7 @@ impl Widget for Dissipation<'_> {
             .collect();
         let now_w = shown.map_or(0.0, |r| r.dissipation);
         let current: Vec<(f64, f64)> = match shown {
-            Some(r) if r.cycle() > 0 && !r.completed.is_some() => {
+            Some(r) if r.cycle() > 0 && r.completed.is_none() => {
                 vec![(r.cycle() as f64, r.dissipation)]
             }
             _ => Vec::new(),
