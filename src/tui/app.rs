@@ -35,8 +35,8 @@ pub const SPEEDS: [usize; 9] = [1, 2, 4, 8, 16, 32, 64, 128, 256];
 const DEFAULT_SPEED: usize = 2;
 /// Default history budget (`--history-mb`).
 pub const DEFAULT_HISTORY_MB: usize = 256;
-/// Most log entries kept; older ones go first.
-const MAX_LOG: usize = 200_000;
+/// Bytes a log entry holds, about, for its share of the budget.
+const LOG_ENTRY_BYTES: usize = 160;
 /// Most worker replies taken per frame, so a frame never runs long.
 const MAX_REPLIES_PER_FRAME: usize = 20_000;
 
@@ -1219,7 +1219,9 @@ impl App {
         }
         for e in &r.events {
             self.last_event = Some(e.text.clone());
-            if self.log.len() >= MAX_LOG {
+            // The log gets an eighth of the history budget.
+            let max_log = (self.config.history_bytes / 8 / LOG_ENTRY_BYTES).max(1000);
+            if self.log.len() >= max_log {
                 self.log.pop_front();
                 self.log_dropped += 1;
                 self.log_selected = self.log_selected.saturating_sub(1);
