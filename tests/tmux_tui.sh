@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
 # The explorer in a real terminal: tmux at 100x30. It checks that the
 # panels and lambda show, that -> raises lambda by 0.05, that ? shows the
-# help and that q quits with status 0. Builds nothing itself.
+# help, that , scrubs back into history, that L shows the event log, that
+# Esc in the sweep view goes back (and q then asks), that q quits with
+# status 0; then that --ascii draws ASCII only and Ctrl-C exits 130; and
+# that SIGTERM leaves a sane terminal (icanon echo, main screen). Builds
+# nothing itself.
 #
 #   tests/tmux_tui.sh [path/to/shakedown]    (default target/release/shakedown)
 set -u
@@ -82,7 +86,39 @@ for text in "run or pause" "one increment" "to the steady state" "quit"; do
 done
 echo "tmux_tui: ? shows the help"
 
+tm send-keys -t "$session" Escape
+wait_for 'Load plane' 5 || fail "Esc did not close the help"
+
+# Scrub back: pause, then three increments back.
+tm send-keys -t "$session" Space
+sleep 0.3
+tm send-keys -t "$session" , , ,
+wait_for ' history .*#[0-9]+' 5 || fail ", did not scrub back into history"
+echo "tmux_tui: , scrubs back into history"
+tm send-keys -t "$session" End
+
+# The event log.
+tm send-keys -t "$session" L
+wait_for 'Event log' 5 || fail "L did not open the event log"
+echo "tmux_tui: L shows the event log"
+tm send-keys -t "$session" L
+wait_for 'Load plane' 5 || fail "L did not close the event log"
+
+# The sweep view: Esc goes back to stepping and does not quit.
+tm send-keys -t "$session" v
+wait_for 'sweep view' 10 || fail "v did not open the sweep view"
+tm send-keys -t "$session" Escape
+wait_for 'Load plane' 5 || fail "Esc in the sweep view did not go back to stepping"
+[ -f "$work/exit" ] && fail "Esc in the sweep view ended the program"
+echo "tmux_tui: Esc in the sweep view goes back"
+
 tm send-keys -t "$session" q
+# The sweep started by v may still be running: q asks first.
+sleep 0.5
+capture
+if grep -q 'y/n' "$work/screen"; then
+  tm send-keys -t "$session" y
+fi
 for _ in $(seq 1 50); do
   [ -f "$work/exit" ] && break
   sleep 0.1
@@ -91,4 +127,51 @@ done
 status=$(cat "$work/exit")
 [ "$status" = "EXIT:0" ] || fail "q ended the program with $status, expected EXIT:0"
 echo "tmux_tui: q quit with status 0"
+tm kill-session -t "$session" >/dev/null 2>&1
+
+# --ascii: nothing outside ASCII on screen; Ctrl-C exits 130.
+rm -f "$work/exit"
+tm new-session -d -s "$session" -x 100 -y 30 \
+  "sh -c '\"$bin\" tui --ascii; echo EXIT:\$? > \"$work/exit\"; sleep 30'" \
+  || fail "could not start tmux (ascii)"
+wait_for 'lambda = [0-9]' 15 || fail "--ascii: the status line did not appear"
+sleep 0.5
+capture
+if LC_ALL=C grep -q '[^ -~]' "$work/screen"; then
+  fail "--ascii drew characters outside ASCII"
+fi
+echo "tmux_tui: --ascii draws ASCII only"
+tm send-keys -t "$session" C-c
+for _ in $(seq 1 50); do
+  [ -f "$work/exit" ] && break
+  sleep 0.1
+done
+[ -f "$work/exit" ] || fail "Ctrl-C did not end the program"
+status=$(cat "$work/exit")
+[ "$status" = "EXIT:130" ] || fail "Ctrl-C ended the program with $status, expected EXIT:130"
+echo "tmux_tui: Ctrl-C exits 130"
+tm kill-session -t "$session" >/dev/null 2>&1
+
+# SIGTERM: the terminal is given back (canonical mode, echo, main screen).
+rm -f "$work/exit"
+tm new-session -d -s "$session" -x 100 -y 30 \
+  "sh -c '\"$bin\"; echo EXIT:\$? > \"$work/exit\"; stty -a > \"$work/stty\"; sleep 30'" \
+  || fail "could not start tmux (SIGTERM)"
+wait_for 'lambda = [0-9]' 15 || fail "SIGTERM run: the status line did not appear"
+shell_pid=$(tm display -p -t "$session" '#{pane_pid}')
+pid=$(ps -o pid= --ppid "$shell_pid" | head -n 1 | tr -d ' ')
+[ -n "$pid" ] || fail "could not find the explorer's process"
+kill -TERM "$pid"
+for _ in $(seq 1 50); do
+  [ -f "$work/stty" ] && break
+  sleep 0.1
+done
+[ -f "$work/stty" ] || fail "SIGTERM did not end the program"
+status=$(cat "$work/exit")
+[ "$status" = "EXIT:143" ] || fail "SIGTERM ended the program with $status, expected EXIT:143"
+grep -Eq '(^| )icanon' "$work/stty" || fail "after SIGTERM the terminal is not in canonical mode: $(cat "$work/stty")"
+grep -Eq '(^| )echo( |$)' "$work/stty" || fail "after SIGTERM the terminal does not echo: $(cat "$work/stty")"
+alt=$(tm display -p -t "$session" '#{alternate_on}')
+[ "$alt" = "0" ] || fail "after SIGTERM the alternate screen is still on"
+echo "tmux_tui: SIGTERM restores the terminal (icanon echo, main screen), status 143"
 echo "tmux_tui: ok"

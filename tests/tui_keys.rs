@@ -9,7 +9,8 @@ use ratatui::Terminal;
 use shakedown::analysis::case::Case;
 use shakedown::stepping::{Phase, Status};
 use shakedown::tui::app::{App, Config, Goal, View};
-use shakedown::tui::keys::{bindings_for, event_for, Action, BINDINGS};
+use shakedown::tui::keys::{bindings_for, event_for, Action, Mode, BINDINGS, MODES};
+use shakedown::tui::log::EventKind;
 use shakedown::tui::{default_params, ui};
 
 mod common;
@@ -18,11 +19,7 @@ mod common;
 /// which start it do not start a full preset's.
 fn app() -> App {
     let case = Case::from_params(&default_params()).expect("the default case is valid");
-    App::with_sweep(
-        case,
-        Config { color: true },
-        Ok(common::tiny_sweep_source()),
-    )
+    App::with_sweep(case, Config::default(), Ok(common::tiny_sweep_source()))
 }
 
 fn press(app: &mut App, code: KeyCode, modifiers: KeyModifiers) {
@@ -41,23 +38,34 @@ fn run_goal(app: &mut App) {
             return;
         }
         app.tick(Duration::from_millis(50));
+        std::thread::sleep(Duration::from_millis(1));
     }
     panic!("goal {:?} not reached", app.goal());
 }
 
 fn assert_restarted(app: &App) {
-    assert_eq!(app.stepper().increments(), 0);
-    assert!(app.slip_rows().is_empty());
+    assert_eq!(app.increments(), 0);
+    assert!(app.history().is_empty());
     let notice = app.notice().unwrap_or_default();
     assert!(notice.contains("restarted from O"), "notice: {notice}");
 }
 
 /// What each action must do. The match is exhaustive, so an action added
 /// to the table without a test here does not compile.
-fn check(action: Action, event: KeyEvent, view: View) {
+fn check(action: Action, event: KeyEvent, mode: Mode) {
     let mut app = app();
     app.advance(50);
+    let view = match mode {
+        Mode::Sweep => View::Sweep,
+        _ => View::Stepping,
+    };
     app.show_view(view);
+    if mode == Mode::Log {
+        // Into the first cycle, where events come thick.
+        app.advance(400);
+        app.apply(Action::ToggleLog);
+        assert_eq!(app.mode(), Mode::Log);
+    }
     let lambda = app.load_factor();
     let phase = app.phase();
     let handle = |app: &mut App| app.handle_key(event);
@@ -109,21 +117,24 @@ fn check(action: Action, event: KeyEvent, view: View) {
             assert!(app.is_running());
             handle(&mut app);
             assert!(!app.is_running());
-            let at = app.stepper().increments();
+            let at = app.increments();
             app.tick(Duration::from_millis(50));
-            assert_eq!(app.stepper().increments(), at, "paused, yet it stepped");
+            std::thread::sleep(Duration::from_millis(30));
+            app.tick(Duration::from_millis(50));
+            assert_eq!(app.increments(), at, "paused, yet it stepped");
             handle(&mut app);
             assert!(app.is_running());
-            app.tick(Duration::from_millis(50));
-            assert!(app.stepper().increments() > at);
+            wait_until(&mut app, |a| a.increments() > at);
         }
         Action::StepOne => {
-            let at = app.stepper().increments();
+            let at = app.increments();
             handle(&mut app);
-            assert_eq!(app.stepper().increments(), at + 1);
+            app.settle();
+            assert_eq!(app.increments(), at + 1);
             assert!(!app.is_running());
             handle(&mut app);
-            assert_eq!(app.stepper().increments(), at + 2);
+            app.settle();
+            assert_eq!(app.increments(), at + 2);
         }
         Action::ToCycleEnd => {
             // In the transient, `c` stops where the transient ends ...
@@ -131,7 +142,7 @@ fn check(action: Action, event: KeyEvent, view: View) {
             assert_eq!(app.goal(), Some(Goal::TransientEnd));
             run_goal(&mut app);
             assert_eq!(
-                app.stepper().phase(),
+                app.stepper_phase(),
                 Phase::Cycle {
                     cycle: 1,
                     increment: 0
@@ -141,9 +152,9 @@ fn check(action: Action, event: KeyEvent, view: View) {
             app.advance(7);
             handle(&mut app);
             run_goal(&mut app);
-            assert_eq!(app.stepper().history().len(), 1);
+            assert_eq!(app.cycles().len(), 1);
             assert_eq!(
-                app.stepper().phase(),
+                app.stepper_phase(),
                 Phase::Cycle {
                     cycle: 2,
                     increment: 0
@@ -155,8 +166,8 @@ fn check(action: Action, event: KeyEvent, view: View) {
             handle(&mut app);
             assert_eq!(app.goal(), Some(Goal::Steady));
             run_goal(&mut app);
-            let Status::Steady(summary) = app.stepper().status() else {
-                panic!("not steady: {:?}", app.stepper().status());
+            let Status::Steady(summary) = app.status() else {
+                panic!("not steady: {:?}", app.status());
             };
             let notice = app.notice().unwrap_or_default();
             assert!(notice.contains(summary.state.as_str()), "{notice}");
@@ -168,8 +179,8 @@ fn check(action: Action, event: KeyEvent, view: View) {
         Action::Reset => {
             key(&mut app, KeyCode::Char(' '));
             handle(&mut app);
-            assert_eq!(app.stepper().increments(), 0);
-            assert!(app.slip_rows().is_empty());
+            assert_eq!(app.increments(), 0);
+            assert!(app.history().is_empty());
             assert!(app.is_running(), "r reruns the transient");
             assert!(app.notice().unwrap_or_default().contains("reset"));
         }
@@ -196,13 +207,7 @@ fn check(action: Action, event: KeyEvent, view: View) {
             handle(&mut app);
             assert!(app.pauses_on_events());
             // Running now stops at the first event worth seeing.
-            for _ in 0..10_000 {
-                if !app.is_running() {
-                    break;
-                }
-                app.tick(Duration::from_millis(50));
-            }
-            assert!(!app.is_running());
+            wait_until(&mut app, |a| !a.is_running());
             let notice = app.notice().unwrap_or_default();
             assert!(notice.contains("paused on the event"), "{notice}");
             handle(&mut app);
@@ -217,6 +222,148 @@ fn check(action: Action, event: KeyEvent, view: View) {
         Action::Quit => {
             handle(&mut app);
             assert!(app.should_quit());
+            assert_eq!(app.exit_code(), 0);
+        }
+        Action::Interrupt => {
+            handle(&mut app);
+            assert!(app.should_quit());
+            assert_eq!(app.exit_code(), 130);
+        }
+        Action::Suspend => {
+            handle(&mut app);
+            assert!(app.take_suspend());
+            assert!(!app.take_suspend());
+        }
+        Action::Back => {
+            handle(&mut app);
+            assert!(!app.should_quit(), "Esc never quits");
+            assert_eq!(app.view(), View::Stepping);
+            assert!(!app.log_visible());
+        }
+        Action::Back1 => {
+            handle(&mut app);
+            assert_eq!(app.cursor(), Some(48));
+            assert!(!app.is_running(), "looking back pauses");
+            handle(&mut app);
+            assert_eq!(app.cursor(), Some(47));
+            assert_eq!(app.shown().unwrap().increment, 47);
+        }
+        Action::Forward1 => {
+            app.apply(Action::Back1);
+            app.apply(Action::Back1);
+            handle(&mut app);
+            assert_eq!(app.cursor(), Some(48));
+            handle(&mut app);
+            assert_eq!(app.cursor(), None, "forward to the newest is live");
+        }
+        Action::BackCycle | Action::Oldest => {
+            handle(&mut app);
+            assert_eq!(app.cursor(), Some(0));
+            assert_eq!(app.shown().unwrap().increment, 0);
+        }
+        Action::ForwardCycle | Action::Live => {
+            app.apply(Action::Oldest);
+            handle(&mut app);
+            assert_eq!(app.cursor(), None);
+        }
+        Action::PrevEvent | Action::NextEvent => {
+            if action == Action::NextEvent {
+                app.apply(Action::Oldest);
+            }
+            let before = app.cursor();
+            handle(&mut app);
+            let notice = app.notice().unwrap_or_default().to_string();
+            assert!(
+                app.cursor() != before || notice.starts_with("no "),
+                "{notice}"
+            );
+            if let Some(c) = app.cursor().filter(|_| app.cursor() != before) {
+                assert!(app
+                    .log()
+                    .iter()
+                    .any(|e| e.increment == c && app.filter().matches(e)));
+            }
+        }
+        Action::EventKind => {
+            assert_eq!(app.filter().kind, None);
+            handle(&mut app);
+            assert!(app.filter().kind.is_some());
+        }
+        Action::MinNodes => {
+            handle(&mut app);
+            assert_eq!(app.filter().min_nodes, 2);
+        }
+        Action::ToggleLog => {
+            let open = app.log_visible();
+            handle(&mut app);
+            assert_eq!(app.log_visible(), !open);
+        }
+        Action::LogUp | Action::LogPageUp | Action::LogFirst => {
+            let n = app.log_entries().len();
+            assert!(n > 1, "events in 450 increments");
+            assert_eq!(app.log_selected(), n - 1, "the log opens at the newest");
+            handle(&mut app);
+            assert!(app.log_selected() < n - 1);
+        }
+        Action::LogDown | Action::LogPageDown | Action::LogLast => {
+            app.apply(Action::LogFirst);
+            handle(&mut app);
+            assert!(app.log_selected() > 0);
+        }
+        Action::LogGo => {
+            app.apply(Action::LogFirst);
+            let i = app.log_entries()[0].increment;
+            handle(&mut app);
+            assert!(!app.log_visible());
+            assert_eq!(app.shown().unwrap().increment, i);
+        }
+        Action::Pin => {
+            handle(&mut app);
+            assert!(app.pinned().is_some());
+            handle(&mut app);
+            assert!(app.pinned().is_none());
+        }
+        Action::Entry => {
+            handle(&mut app);
+            assert_eq!(app.entry(), Some(""));
+            for c in "lambda = 5.13".chars() {
+                key(&mut app, KeyCode::Char(c));
+            }
+            key(&mut app, KeyCode::Enter);
+            assert_eq!(app.entry(), None);
+            assert!((app.load_factor() - 5.13).abs() < 1e-12);
+            assert_restarted(&app);
+        }
+        Action::SweepPageUp | Action::SweepLast => {
+            handle(&mut app);
+            assert_eq!(app.sweep().unwrap().cursor(), (2, 0));
+        }
+        Action::SweepPageDown | Action::SweepFirst => {
+            app.apply(Action::SweepLast);
+            handle(&mut app);
+            assert_eq!(app.sweep().unwrap().cursor(), (0, 0));
+        }
+        Action::SweepLogW => {
+            let log = app.sweep_log_w();
+            handle(&mut app);
+            assert_eq!(app.sweep_log_w(), !log);
+        }
+        Action::SweepSave => {
+            let dir = std::env::temp_dir().join(format!("shakedown-save-{}", std::process::id()));
+            std::fs::create_dir_all(&dir).unwrap();
+            app.set_save_dir(&dir);
+            handle(&mut app);
+            let notice = app.notice().unwrap_or_default().to_string();
+            assert!(notice.starts_with("saved"), "{notice}");
+            let name = std::fs::read_dir(&dir)
+                .unwrap()
+                .next()
+                .unwrap()
+                .unwrap()
+                .path();
+            let text = std::fs::read_to_string(&name).unwrap();
+            assert!(text.starts_with(shakedown::analysis::sweep::CSV_HEADER));
+            let _ = std::fs::remove_dir_all(&dir);
         }
         Action::ToggleView => {
             handle(&mut app);
@@ -263,7 +410,7 @@ fn check(action: Action, event: KeyEvent, view: View) {
             assert_eq!(app.paths()[app.path_index()].name(), "7,-7");
             assert_eq!(app.case().initial.name(), "7,-7");
             assert!(app.is_running());
-            assert_eq!(app.stepper().increments(), 0);
+            assert_eq!(app.increments(), 0);
             let notice = app.notice().unwrap_or_default();
             assert!(notice.contains("opened lambda 5.50"), "{notice}");
         }
@@ -279,12 +426,22 @@ fn check(action: Action, event: KeyEvent, view: View) {
 
 #[test]
 fn every_key_in_the_table_does_what_it_says() {
-    for view in [View::Stepping, View::Sweep] {
-        for binding in bindings_for(view) {
+    for mode in MODES {
+        for binding in bindings_for(mode) {
             for k in binding.keys {
-                check(binding.action, event_for(k), view);
+                check(binding.action, event_for(k), mode);
             }
         }
+    }
+}
+
+/// Ticks (as frames do) until `done`, or fail after ten seconds.
+fn wait_until(app: &mut App, done: impl Fn(&App) -> bool) {
+    let deadline = std::time::Instant::now() + Duration::from_secs(10);
+    while !done(app) {
+        assert!(std::time::Instant::now() < deadline, "timed out");
+        app.tick(Duration::from_millis(8));
+        std::thread::sleep(Duration::from_millis(2));
     }
 }
 
@@ -338,11 +495,30 @@ fn the_sweep_fills_in_and_enter_opens_a_run() {
     assert_eq!(app.load_factor(), 7.0);
     assert_eq!(app.case().initial.name(), "7,-7");
 
-    // Rerun, then quit while it runs: the runs not started are dropped.
+    // Esc goes back to the stepping view; it never quits.
+    key(&mut app, KeyCode::Tab);
+    key(&mut app, KeyCode::Esc);
+    assert_eq!(app.view(), View::Stepping);
+    assert!(!app.should_quit());
+    // r asks before it throws the finished map away; n keeps it.
     key(&mut app, KeyCode::Tab);
     key(&mut app, KeyCode::Char('r'));
+    assert!(app.confirm().is_some());
+    key(&mut app, KeyCode::Char('n'));
+    assert_eq!(app.sweep().unwrap().done(), 6);
+    key(&mut app, KeyCode::Char('r'));
+    key(&mut app, KeyCode::Char('y'));
     assert!(app.sweep().unwrap().is_running());
+    // A storm of reruns (each confirmed) leaves one sweep running.
+    for _ in 0..40 {
+        key(&mut app, KeyCode::Char('r'));
+        key(&mut app, KeyCode::Char('y'));
+    }
+    assert!(app.sweep().unwrap().is_running());
+    // q asks while it runs; y quits and the runs not started are dropped.
     key(&mut app, KeyCode::Char('q'));
+    assert!(!app.should_quit());
+    key(&mut app, KeyCode::Char('y'));
     assert!(app.should_quit());
     assert!(!app.sweep().unwrap().is_running());
 }
@@ -366,7 +542,7 @@ fn arrows_follow_the_view() {
 #[test]
 fn the_table_covers_the_issue_keys() {
     let mut app = app();
-    let cases: [(KeyCode, KeyModifiers, Action); 18] = [
+    let cases: [(KeyCode, KeyModifiers, Action); 23] = [
         (KeyCode::Left, KeyModifiers::NONE, Action::LoadFactorDown),
         (KeyCode::Right, KeyModifiers::NONE, Action::LoadFactorUp),
         (
@@ -381,7 +557,12 @@ fn the_table_covers_the_issue_keys() {
         (KeyCode::Char(']'), KeyModifiers::NONE, Action::NextPath),
         (KeyCode::Char(' '), KeyModifiers::NONE, Action::RunPause),
         (KeyCode::Char('n'), KeyModifiers::NONE, Action::StepOne),
-        (KeyCode::Char('.'), KeyModifiers::NONE, Action::StepOne),
+        (KeyCode::Char('.'), KeyModifiers::NONE, Action::Forward1),
+        (KeyCode::Char(','), KeyModifiers::NONE, Action::Back1),
+        (KeyCode::Char('L'), KeyModifiers::SHIFT, Action::ToggleLog),
+        (KeyCode::Char('}'), KeyModifiers::SHIFT, Action::NextEvent),
+        (KeyCode::Char('p'), KeyModifiers::NONE, Action::Pin),
+        (KeyCode::Char(':'), KeyModifiers::SHIFT, Action::Entry),
         (KeyCode::Char('c'), KeyModifiers::NONE, Action::ToCycleEnd),
         (KeyCode::Char('s'), KeyModifiers::NONE, Action::ToSteady),
         (KeyCode::Char('r'), KeyModifiers::NONE, Action::Reset),
@@ -396,39 +577,162 @@ fn the_table_covers_the_issue_keys() {
     ];
     for (code, mods, action) in cases {
         assert_eq!(
-            shakedown::tui::keys::action_for(&KeyEvent::new(code, mods), View::Stepping),
+            shakedown::tui::keys::action_for(&KeyEvent::new(code, mods), Mode::Stepping),
             Some(action),
             "{code:?} {mods:?}"
         );
     }
-    for (code, mods) in [
-        (KeyCode::Char('q'), KeyModifiers::NONE),
-        (KeyCode::Esc, KeyModifiers::NONE),
-        (KeyCode::Char('c'), KeyModifiers::CONTROL),
+    for (code, mods, action) in [
+        (KeyCode::Char('q'), KeyModifiers::NONE, Action::Quit),
+        (KeyCode::Esc, KeyModifiers::NONE, Action::Back),
+        (KeyCode::Char('c'), KeyModifiers::CONTROL, Action::Interrupt),
     ] {
-        assert_eq!(
-            shakedown::tui::keys::action_for(&KeyEvent::new(code, mods), View::Stepping),
-            Some(Action::Quit)
-        );
+        for mode in MODES {
+            assert_eq!(
+                shakedown::tui::keys::action_for(&KeyEvent::new(code, mods), mode),
+                Some(action)
+            );
+        }
     }
     // Unbound keys do nothing.
-    let before = app.stepper().increments();
+    let before = app.increments();
     key(&mut app, KeyCode::Char('z'));
     key(&mut app, KeyCode::F(5));
-    assert_eq!(app.stepper().increments(), before);
+    assert_eq!(app.increments(), before);
     assert!(!app.should_quit());
 }
 
 #[test]
-fn esc_closes_the_help_before_it_quits() {
+fn esc_closes_and_never_quits() {
     let mut app = app();
     key(&mut app, KeyCode::Char('?'));
     assert!(app.help_visible());
     key(&mut app, KeyCode::Esc);
     assert!(!app.help_visible());
-    assert!(!app.should_quit());
     key(&mut app, KeyCode::Esc);
-    assert!(app.should_quit());
+    assert!(!app.should_quit());
+    app.show_view(View::Sweep);
+    key(&mut app, KeyCode::Esc);
+    assert_eq!(app.view(), View::Stepping);
+    assert!(!app.should_quit());
+}
+
+/// The mouse wheel scrolls history and never changes lambda or phi.
+#[test]
+fn the_wheel_scrolls_history_not_the_case() {
+    let mut app = app();
+    app.advance(30);
+    let (lambda, phi) = (app.load_factor(), app.phase());
+    for _ in 0..5 {
+        app.scroll(-1);
+    }
+    assert_eq!(app.cursor(), Some(24));
+    for _ in 0..10 {
+        app.scroll(1);
+    }
+    assert_eq!(app.cursor(), None);
+    assert_eq!((app.load_factor(), app.phase()), (lambda, phi));
+    assert_eq!(app.increments(), 30);
+}
+
+/// Keys are answered at once while the worker steps a large model: the
+/// UI thread never runs an increment.
+#[test]
+fn keys_answer_while_a_large_model_steps() {
+    let mut params = default_params();
+    params.nodes = 1024;
+    let case = Case::from_params(&params).unwrap();
+    let mut app = App::with_sweep(case, Config::default(), Ok(common::tiny_sweep_source()));
+    app.apply(Action::ToSteady);
+    for _ in 0..20 {
+        let t = std::time::Instant::now();
+        app.tick(Duration::from_millis(8));
+        key(&mut app, KeyCode::Char('?'));
+        assert!(
+            t.elapsed() < Duration::from_millis(100),
+            "{:?}",
+            t.elapsed()
+        );
+    }
+    let t = std::time::Instant::now();
+    key(&mut app, KeyCode::Right);
+    app.tick(Duration::from_millis(8));
+    assert!(
+        t.elapsed() < Duration::from_millis(100),
+        "{:?}",
+        t.elapsed()
+    );
+    assert!((app.load_factor() - 6.05).abs() < 1e-12);
+}
+
+/// Scrubbing shows the past instant in every panel, and the history
+/// stays within a small budget at a high rate.
+#[test]
+fn history_scrubs_and_stays_within_budget() {
+    let case = Case::from_params(&default_params()).unwrap();
+    let config = Config {
+        history_bytes: 1 << 20,
+        ..Config::default()
+    };
+    let mut app = App::with_sweep(case, config, Ok(common::tiny_sweep_source()));
+    app.advance(3000);
+    let h = app.history();
+    assert!(h.bytes() <= 1 << 20, "{}", h.bytes());
+    assert!(h.thinned_before().is_some() || h.dropped_before().is_some());
+    assert_eq!(app.increments(), 3000);
+    app.apply(Action::Oldest);
+    let first = app.shown().unwrap().increment;
+    assert!(first < 2999);
+    let mut terminal = Terminal::new(TestBackend::new(100, 30)).unwrap();
+    terminal.draw(|f| ui::draw(f, &app)).unwrap();
+    let text = terminal.backend().to_string();
+    assert!(text.contains(" history "), "{text}");
+    assert!(
+        text.contains("detail 1/") || text.contains("history from #"),
+        "{text}"
+    );
+}
+
+/// The event log lists events with their place, and the pause filter
+/// skips advancing stick smaller than asked.
+#[test]
+fn events_are_logged_and_filtered_by_size() {
+    let mut app = app();
+    app.advance(800);
+    assert!(app
+        .log()
+        .iter()
+        .any(|e| e.kind == EventKind::AdvancingStick));
+    let small = app
+        .log()
+        .iter()
+        .filter(|e| e.kind == EventKind::AdvancingStick && e.nodes < 4)
+        .count();
+    assert!(small > 0, "one-node sticks happen in this case");
+    // Choose advancing stick of at least 4 nodes and pause on it.
+    while app.filter().kind != Some(EventKind::AdvancingStick) {
+        app.apply(Action::EventKind);
+    }
+    while app.filter().min_nodes != 4 {
+        app.apply(Action::MinNodes);
+    }
+    app.apply(Action::Reset);
+    app.apply(Action::PauseOnEvents);
+    wait_until(&mut app, |a| !a.is_running());
+    let last = app.latest().unwrap();
+    let e = last
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::AdvancingStick)
+        .expect("paused on an advancing stick");
+    assert!(e.nodes >= 4, "{e:?}");
+    // The log overlay shows the entries unclipped at 80 columns.
+    app.apply(Action::ToggleLog);
+    let mut terminal = Terminal::new(TestBackend::new(80, 24)).unwrap();
+    terminal.draw(|f| ui::draw(f, &app)).unwrap();
+    let text = terminal.backend().to_string();
+    assert!(text.contains("Event log"), "{text}");
+    assert!(text.contains("sub-increments)"), "wrapped, not cut: {text}");
 }
 
 #[test]
@@ -467,7 +771,10 @@ fn no_key_sequence_panics() {
     let mut terminal = Terminal::new(TestBackend::new(80, 24)).unwrap();
     for round in 0..3 {
         for binding in BINDINGS {
-            if binding.action == Action::Quit || binding.action == Action::ToSteady {
+            if matches!(
+                binding.action,
+                Action::Quit | Action::Interrupt | Action::ToSteady
+            ) {
                 continue;
             }
             for k in binding.keys {
@@ -487,9 +794,15 @@ fn a_run_that_ends_refuses_to_step_and_says_why() {
     params.load_factor = 9.0;
     params.initial = "OA".into();
     let case = Case::from_params(&params).unwrap();
-    let mut app = App::new(case, Config { color: false });
+    let mut app = App::new(
+        case,
+        Config {
+            color: false,
+            ..Config::default()
+        },
+    );
     app.advance(5_000);
-    assert!(app.stepper().is_finished());
+    assert!(matches!(app.status(), Status::Ended(_)));
     assert!(!app.is_running());
     key(&mut app, KeyCode::Char('n'));
     assert!(app.notice().unwrap_or_default().contains("ended"));

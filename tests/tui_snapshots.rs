@@ -1,37 +1,171 @@
-//! Whole-screen snapshots of the explorer after a fixed number of
-//! increments. Nothing on screen depends on the clock, so they are exact.
+//! Whole-screen snapshots of the explorer in a fixed, synthetic state
+//! (fed to it as the worker would, see [`synthetic`]): no number on these
+//! screens comes from the solver, so a change of the physics or of a
+//! tolerance does not rewrite them. Nothing depends on the clock either.
+
+use std::f64::consts::PI;
 
 use ratatui::backend::TestBackend;
 use ratatui::style::Color;
 use ratatui::Terminal;
 use shakedown::analysis::case::Case;
-use shakedown::tui::app::{App, Config, View};
+use shakedown::model::path::Segment;
+use shakedown::stepping::{Phase, Status};
+use shakedown::tui::app::{
+    App, Config, Detail, Record, View, BACKWARD, FORWARD, NEWLY_STUCK, STICK,
+};
+use shakedown::tui::keys::{bindings_for, Action, Mode, MODES};
+use shakedown::tui::log::{At, EventKind, LogEntry};
 
 mod common;
 use shakedown::tui::{default_params, ui};
 
-/// Into the second cycle of the default case: the transient and a whole
-/// cycle are in the slip map, W has one point, slip zones are active.
+/// Two cycles and a bit of the synthetic state: the transient and a whole
+/// cycle are in the slip map, W has points.
 const INCREMENTS: usize = 900;
+
+fn config(color: bool) -> Config {
+    Config {
+        color,
+        ..Config::default()
+    }
+}
 
 fn app(color: bool) -> App {
     let case = Case::from_params(&default_params()).expect("the default case is valid");
-    App::new(case, Config { color })
+    App::new(case, config(color))
 }
 
-/// `n` increments in batches of four, as frames at the default speed take
-/// them, so per-frame highlights look as they do live.
-fn app_after(n: usize) -> App {
-    let mut app = app(true);
-    advance_like_frames(&mut app, n);
+/// A synthetic record: slip bands that turn with the load, a few nodes
+/// sticking every 37 increments, `W` growing through each cycle. Nothing
+/// here comes from the solver, so a change of the physics or of a solver
+/// tolerance leaves these screens as they are.
+fn synthetic(i: usize, n: usize) -> Record {
+    let transient = 20;
+    let steps = 400;
+    let phase_of = |i: usize| {
+        if i < transient {
+            Phase::Transient {
+                segment: i / 10,
+                increment: i % 10,
+            }
+        } else {
+            Phase::Cycle {
+                cycle: 1 + (i - transient) / steps,
+                increment: (i - transient) % steps,
+            }
+        }
+    };
+    let phase = phase_of(i);
+    let cycle = match phase {
+        Phase::Cycle { cycle, .. } => cycle,
+        _ => 0,
+    };
+    let t = 2.0 * PI * (i as f64) / steps as f64;
+    let theta = |j: usize| 2.0 * PI * j as f64 / n as f64;
+    let stuck: Vec<usize> = if i.is_multiple_of(37) {
+        (10..15).collect()
+    } else {
+        Vec::new()
+    };
+    let mut cells: Vec<u8> = (0..n)
+        .map(|j| {
+            let s = (theta(j) + t).sin();
+            if s > 0.6 {
+                FORWARD
+            } else if s < -0.6 {
+                BACKWARD
+            } else {
+                STICK
+            }
+        })
+        .collect();
+    for &j in &stuck {
+        cells[j] = NEWLY_STUCK;
+    }
+    let slip: Vec<f32> = (0..n)
+        .map(|j| (0.05 * (2.0 * theta(j)).sin() * (1.0 + cycle as f64 / 10.0)) as f32)
+        .collect();
+    let slip_before = (!stuck.is_empty()).then(|| slip.iter().map(|g| g * 0.9).collect());
+    let at = At {
+        increment: i,
+        cycle,
+        time: (cycle > 0).then_some(t % (2.0 * PI)),
+        load: (4.0 * t.cos(), 4.0 * t.sin()),
+    };
+    let mut events = Vec::new();
+    if !stuck.is_empty() {
+        events.push(LogEntry {
+            kind: EventKind::AdvancingStick,
+            increment: i,
+            cycle,
+            time: at.time,
+            load: at.load,
+            nodes: stuck.len(),
+            theta: Some((theta(10), theta(14))),
+            text: "advancing stick at 5 nodes (3 sub-increments)".into(),
+        });
+    }
+    if i.is_multiple_of(50) {
+        events.push(LogEntry {
+            kind: EventKind::Split,
+            increment: i,
+            cycle,
+            time: at.time,
+            load: at.load,
+            nodes: 0,
+            theta: Some((-1.0, 1.0)),
+            text: "backward slip zone split (2 zones now), a long description to wrap".into(),
+        });
+    }
+    let in_cycle = match phase {
+        Phase::Cycle { increment, .. } => increment,
+        _ => 0,
+    };
+    let completed = (cycle > 0 && in_cycle == steps - 1).then(|| (cycle, 0.004 / cycle as f64));
+    Record {
+        generation: 0,
+        increment: i,
+        phase,
+        after: phase_of(i + 1),
+        time: at.time,
+        load: at.load,
+        cells,
+        dissipation: 0.004 * in_cycle as f64 / steps as f64,
+        rotation: -1e-3 * i as f64,
+        status: Status::Running,
+        events,
+        newly_stuck: stuck,
+        substeps: 3,
+        completed,
+        detail: Some(Box::new(Detail {
+            pressure: (0..n)
+                .map(|j| (1.0 + 0.2 * theta(j).cos()) as f32)
+                .collect(),
+            shear: (0..n)
+                .map(|j| (0.25 * (theta(j) + t).sin()).clamp(-0.3, 0.3) as f32)
+                .collect(),
+            slip,
+            slip_before,
+        })),
+    }
+}
+
+/// The explorer in a fixed, synthetic state after `n` increments.
+fn fixed_app(color: bool, n: usize) -> App {
+    let mut app = app(color);
+    let nodes = app.case().disc.nodes();
+    let a = shakedown::LoadPoint::new(0.0, 0.0);
+    let b = shakedown::LoadPoint::new(4.0, 0.0);
+    app.feed_started(vec![Segment::new(a, b, 0.5)], 0.3);
+    for i in 0..n {
+        app.feed(synthetic(i, nodes));
+    }
     app
 }
 
-fn advance_like_frames(app: &mut App, n: usize) {
-    for _ in 0..n / 4 {
-        app.advance(4);
-    }
-    app.advance(n % 4);
+fn app_after(n: usize) -> App {
+    fixed_app(true, n)
 }
 
 fn screen(app: &App, width: u16, height: u16) -> Terminal<TestBackend> {
@@ -56,18 +190,122 @@ fn screen_160x48() {
 
 #[test]
 fn screen_100x30_at_start() {
-    insta::assert_snapshot!(screen(&app(true), 100, 30).backend());
+    let app = fixed_app(true, 0);
+    insta::assert_snapshot!(screen(&app, 100, 30).backend());
+}
+
+#[test]
+fn history_scrubbed_back_100x30() {
+    let mut app = app_after(INCREMENTS);
+    app.apply(Action::BackCycle);
+    for _ in 0..3 {
+        app.apply(Action::Back1);
+    }
+    assert_eq!(app.cursor(), Some(INCREMENTS - 1 - 403));
+    let text = screen(&app, 100, 30).backend().to_string();
+    assert!(text.contains(" history "), "{text}");
+    insta::assert_snapshot!(text);
+}
+
+#[test]
+fn advancing_stick_marks_what_was_locked_in() {
+    let mut app = app_after(INCREMENTS);
+    // Increment 888 = 24 * 37: five nodes stuck there.
+    while app.shown().unwrap().increment != 888 {
+        app.apply(Action::Back1);
+    }
+    let text = screen(&app, 100, 30).backend().to_string();
+    assert!(text.contains("locked in"), "{text}");
+    assert!(
+        text.contains("just stuck: 5 nodes") || text.contains("5 stuck"),
+        "{text}"
+    );
+    insta::assert_snapshot!(text);
+}
+
+#[test]
+fn event_log_80x24() {
+    let mut app = app_after(INCREMENTS);
+    app.apply(Action::ToggleLog);
+    app.apply(Action::LogPageUp);
+    let text = screen(&app, 80, 24).backend().to_string();
+    assert!(text.contains("a long description"), "{text}");
+    assert!(text.contains("to wrap"), "wrapped, not cut: {text}");
+    insta::assert_snapshot!(text);
+}
+
+#[test]
+fn pinned_run_is_drawn_against_the_current_one() {
+    let mut app = app_after(INCREMENTS);
+    app.apply(Action::Pin);
+    let text = screen(&app, 100, 30).backend().to_string();
+    assert!(text.contains("pinned lambda 6.00"), "{text}");
+    insta::assert_snapshot!(text);
+}
+
+#[test]
+fn ascii_draws_ascii_only() {
+    let mut app = app(true);
+    let nodes = app.case().disc.nodes();
+    let mut ascii = Config {
+        ascii: true,
+        ..config(true)
+    };
+    ascii.color = true;
+    let case = app.case().clone();
+    app = App::new(case, ascii);
+    for i in 0..INCREMENTS {
+        app.feed(synthetic(i, nodes));
+    }
+    for (w, h) in [(80, 24), (100, 30)] {
+        let text = screen(&app, w, h).backend().to_string();
+        assert!(text.is_ascii(), "{w}x{h}:\n{text}");
+    }
+    app.apply(Action::ToggleLog);
+    assert!(screen(&app, 80, 24).backend().to_string().is_ascii());
+    app.apply(Action::ToggleLog);
+    app.apply(Action::Help);
+    assert!(screen(&app, 80, 24).backend().to_string().is_ascii());
+    app.apply(Action::Help);
+    insta::assert_snapshot!(screen(&app, 100, 30).backend());
 }
 
 #[test]
 fn help_overlay_80x24() {
     let mut app = app_after(10);
-    app.apply(shakedown::tui::keys::Action::Help);
+    app.apply(Action::Help);
     let text = screen(&app, 80, 24).backend().to_string();
-    for b in shakedown::tui::keys::bindings_for(View::Stepping) {
+    for b in bindings_for(Mode::Stepping) {
         assert!(text.contains(b.help), "help lacks {:?}", b.help);
+        assert!(text.contains(b.label), "help lacks {:?}", b.label);
     }
     insta::assert_snapshot!(text);
+}
+
+#[test]
+fn every_mode_lists_every_key_at_80x24() {
+    let mut app = app_after(10);
+    for mode in MODES {
+        match mode {
+            Mode::Sweep => app.show_view(View::Sweep),
+            Mode::Log => {
+                app.show_view(View::Stepping);
+                app.apply(Action::ToggleLog);
+            }
+            Mode::Stepping => {}
+        }
+        assert_eq!(app.mode(), mode);
+        app.apply(Action::Help);
+        let text = screen(&app, 80, 24).backend().to_string();
+        for b in bindings_for(mode) {
+            assert!(
+                text.contains(b.help),
+                "{mode:?} help lacks {:?}:\n{text}",
+                b.help
+            );
+        }
+        app.apply(Action::Help);
+    }
 }
 
 #[test]
@@ -91,8 +329,7 @@ fn any_size_draws_without_panic() {
 
 #[test]
 fn no_color_draws_no_colour() {
-    let mut app = app(false);
-    advance_like_frames(&mut app, INCREMENTS);
+    let app = fixed_app(false, INCREMENTS);
     let terminal = screen(&app, 160, 48);
     let buffer = terminal.backend().buffer();
     for cell in buffer.content() {
@@ -140,7 +377,7 @@ fn sweep_app(color: bool) -> App {
     let case = Case::from_params(&default_params()).expect("the default case is valid");
     let source = common::tiny_sweep_source();
     let rows = common::fake_rows(&source);
-    let mut app = App::with_sweep(case, Config { color }, Ok(source));
+    let mut app = App::with_sweep(case, config(color), Ok(source));
     let sweep = app.sweep_mut().expect("a sweep");
     for row in rows {
         sweep.insert(row);
@@ -173,9 +410,9 @@ fn sweep_view_160x48() {
 #[test]
 fn sweep_view_help_lists_its_keys() {
     let mut app = sweep_app(true);
-    app.apply(shakedown::tui::keys::Action::Help);
+    app.apply(Action::Help);
     let text = screen(&app, 80, 24).backend().to_string();
-    for b in shakedown::tui::keys::bindings_for(View::Sweep) {
+    for b in bindings_for(Mode::Sweep) {
         assert!(text.contains(b.help), "help lacks {:?}", b.help);
     }
     assert!(

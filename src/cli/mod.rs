@@ -362,10 +362,23 @@ pub fn initial_slip(path: &str, nodes: usize) -> Result<shakedown::model::Initia
 #[error("{0}")]
 pub struct InputError(pub String);
 
-#[derive(Debug, Args)]
+/// The explorer opens on the paper's Fig. 3 case at lambda = 6 (phi = 0)
+/// through the transient `7,-7`, unless the case flags say otherwise.
+#[derive(Debug, Args, Default)]
+#[command(
+    after_help = "Defaults for tui: --lambda 6 --phi 0 --initial 7,-7 (the paper's Fig. 3, cyclic slip).\nASCII drawing is automatic for TERM=linux, vt100 and dumb; NO_COLOR turns colour off."
+)]
 pub struct TuiArgs {
     #[command(flatten)]
     pub case: CaseArgs,
+    /// Draw with ASCII only (no Braille, box drawing or Greek letters).
+    #[arg(long)]
+    pub ascii: bool,
+    /// Memory for the run's history, in MiB; older detail is decimated,
+    /// then dropped, to stay within it.
+    #[arg(long, value_name = "MIB", default_value_t = shakedown::tui::app::DEFAULT_HISTORY_MB as u64,
+          value_parser = clap::value_parser!(u64).range(8..=65536))]
+    pub history_mb: u64,
 }
 
 /// Parse the command line, run it, and map errors to exit codes: 2 for bad
@@ -391,7 +404,8 @@ pub fn main() -> ExitCode {
     };
     let result = match cli.command {
         None => tui(TuiArgs {
-            case: CaseArgs::default(),
+            history_mb: shakedown::tui::app::DEFAULT_HISTORY_MB as u64,
+            ..TuiArgs::default()
         }),
         Some(Command::Run(a)) => run::run(a),
         Some(Command::Sweep(a)) => sweep::sweep(a),
@@ -497,8 +511,11 @@ fn tui(args: TuiArgs) -> Result<ExitCode> {
     // Before anything touches the terminal, so a pipe gets no escape codes
     // and the exit status says "bad input" rather than "failed".
     shakedown::tui::terminal::check_tty().map_err(|e| anyhow!(InputError(e.to_string())))?;
-    shakedown::tui::run(case, preset)?;
-    Ok(ExitCode::SUCCESS)
+    let mut config = shakedown::tui::app::Config::from_env();
+    config.ascii |= args.ascii;
+    config.history_bytes = usize::try_from(args.history_mb << 20).unwrap_or(usize::MAX);
+    let code = shakedown::tui::run_with(case, preset, config)?;
+    Ok(ExitCode::from(code))
 }
 
 #[cfg(test)]

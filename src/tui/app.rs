@@ -1,65 +1,78 @@
-//! The explorer's state machine: what is being run, how fast, what the user
-//! asked for, and the record of the slip map. No terminal I/O happens here,
-//! so every key and every step can be tested with plain calls.
+//! The explorer's state machine: what is being run, what the user asked
+//! for, and which instant of the record is on screen. No terminal I/O
+//! happens here, so every key can be tested with plain calls.
 //!
-//! All physics lives in [`Stepper`]; this file only drives it and keeps
-//! what the panels need to draw.
+//! The physics runs on the [`Worker`] thread; this file sends it commands
+//! and files what comes back in the [`History`] and the event log. The
+//! panels read the instant under the cursor ([`App::shown`]).
 
-use std::collections::VecDeque;
 use std::f64::consts::PI;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use crossterm::event::KeyEvent;
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
-use super::keys::{self, Action};
+pub use super::format::{
+    format_load_factor, format_phase, format_sci, node_theta, plural, PHASE_STEP,
+};
+use super::history::History;
+pub use super::history::{Detail, Record, BACKWARD, DIRECTION_MASK, FORWARD, NEWLY_STUCK, STICK};
+use super::keys::{self, Action, Mode};
+use super::log::{EventKind, Filter, LogEntry, KINDS, MIN_NODES};
 use super::sweep::{LimitState, Sweep, SweepSource};
+use super::worker::{self, Command, Reply, Stopped, Worker};
 use crate::analysis::case::Case;
-use crate::contact::{Operators, SlipDirection};
-use crate::model::path::Initial;
+use crate::contact::Operators;
+use crate::model::path::{Initial, Segment};
 use crate::model::Cycle;
-use crate::stepping::{self, slip_zones, Event, Phase, SlipZone, Status, Stepper, ZoneChange};
+use crate::stepping::{self, Phase, Status};
 
 /// `lambda` change of the arrow keys, and with Shift.
 pub const LOAD_FACTOR_STEP: f64 = 0.05;
 pub const LOAD_FACTOR_BIG_STEP: f64 = 0.5;
-/// `phi` change of the up and down keys.
-pub const PHASE_STEP: f64 = PI / 24.0;
 /// Increments per frame the speed keys choose from.
 pub const SPEEDS: [usize; 9] = [1, 2, 4, 8, 16, 32, 64, 128, 256];
 const DEFAULT_SPEED: usize = 2;
+/// Default history budget (`--history-mb`).
+pub const DEFAULT_HISTORY_MB: usize = 256;
+/// Bytes a log entry holds, about, for its share of the budget.
+const LOG_ENTRY_BYTES: usize = 160;
+/// Most worker replies taken per frame, so a frame never runs long.
+const MAX_REPLIES_PER_FRAME: usize = 20_000;
 
-/// Slip-map cell codes: the direction in the low bits, a flag on top.
-pub const STICK: u8 = 0;
-pub const FORWARD: u8 = 1;
-pub const BACKWARD: u8 = 2;
-pub const DIRECTION_MASK: u8 = 3;
-/// The node went from slip to stick during this increment.
-pub const NEWLY_STUCK: u8 = 4;
-
-/// Enough rows of history for the widest slip map at the coarsest time
-/// scale, but no more than a few megabytes however many nodes there are.
-const HISTORY_BYTES: usize = 4 << 20;
-const MIN_HISTORY_ROWS: usize = 4096;
-
-/// How the explorer draws.
+/// How the explorer draws, and how much it may keep.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Config {
     /// False when `NO_COLOR` asks for monochrome; glyphs carry the meaning.
     pub color: bool,
+    /// ASCII only: no Braille, box drawing or Greek letters.
+    pub ascii: bool,
+    /// Bytes the record of the run may use.
+    pub history_bytes: usize,
 }
 
 impl Config {
-    /// Colour unless `NO_COLOR` is set to a non-empty value (no-color.org).
+    /// Colour unless `NO_COLOR` is set to a non-empty value (no-color.org);
+    /// ASCII on terminals that cannot show more (`TERM=linux`, `vt100`,
+    /// `dumb`).
     pub fn from_env() -> Self {
         let no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
-        Self { color: !no_color }
+        let term = std::env::var("TERM").unwrap_or_default();
+        Self {
+            color: !no_color,
+            ascii: matches!(term.as_str(), "linux" | "vt100" | "vt102" | "dumb"),
+            history_bytes: DEFAULT_HISTORY_MB << 20,
+        }
     }
 }
 
 impl Default for Config {
     fn default() -> Self {
-        Self { color: true }
+        Self {
+            color: true,
+            ascii: false,
+            history_bytes: DEFAULT_HISTORY_MB << 20,
+        }
     }
 }
 
@@ -75,8 +88,7 @@ pub enum View {
 /// one: the paper's Fig. 3, which the default case belongs to.
 pub const DEFAULT_SWEEP_PRESET: &str = "fig3";
 
-/// A stopping point the user asked for with `c` or `s`, reached
-/// progressively over several frames so keys stay live meanwhile.
+/// A stopping point the user asked for with `c` or `s`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Goal {
     TransientEnd,
@@ -85,35 +97,23 @@ pub enum Goal {
     Steady,
 }
 
-/// One increment of the slip map.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct SlipRow {
-    /// Increment number from the start of the run (0-based).
-    pub increment: usize,
-    /// Cycle the increment belongs to, 0 in the transient.
-    pub cycle: usize,
-    /// First increment of a cycle.
-    pub cycle_start: bool,
-    /// Per node: [`STICK`], [`FORWARD`] or [`BACKWARD`], maybe with
-    /// [`NEWLY_STUCK`].
-    pub cells: Vec<u8>,
+/// Something that waits for `y` before it happens.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Confirm {
+    /// Quit with this exit status.
+    Quit(u8),
+    RestartSweep,
 }
 
-/// The last advancing stick: where history got locked in, and how finely
-/// the solver had to cut the increment to resolve it.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct StickInfo {
-    pub nodes: Vec<usize>,
-    pub substeps: usize,
-    pub increment: usize,
-}
-
-/// Why a batch of steps stopped early.
-enum Stop {
-    /// The run cannot go on (ended, or the solver failed).
-    Blocked,
-    /// An event the user wants to see.
-    Paused,
+/// A run pinned for comparison.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pinned {
+    pub label: String,
+    pub state: String,
+    /// `(cycle, W)` of every completed cycle.
+    pub cycles: Vec<(usize, f64)>,
+    /// `g` minus its mean at the instant pinned.
+    pub slip: Vec<f32>,
 }
 
 /// The explorer's whole state.
@@ -121,26 +121,46 @@ pub struct App {
     config: Config,
     case: Case,
     operators: Arc<Operators>,
-    stepper: Stepper,
+    worker: Worker,
+    generation: u64,
+    /// The last `Go` sent, and what it asked for.
+    seq: u64,
+    sent: Option<worker::Goal>,
+    started: bool,
     paths: Vec<Initial>,
     path_index: usize,
     running: bool,
     speed: usize,
     goal: Option<Goal>,
     pause_on_events: bool,
+    filter: Filter,
     help: bool,
+    log_open: bool,
+    log_selected: usize,
     quit: bool,
-    rows: VecDeque<SlipRow>,
-    row_capacity: usize,
-    zones: Vec<SlipZone>,
-    recent_stuck: Vec<usize>,
-    last_stick: Option<StickInfo>,
+    exit_code: u8,
+    confirm: Option<Confirm>,
+    entry: Option<String>,
+    history: History,
+    log: std::collections::VecDeque<LogEntry>,
+    log_dropped: usize,
+    cycles: Vec<(usize, f64)>,
+    transient: Vec<Segment>,
+    friction: f64,
+    /// The increment on screen; `None` follows the newest.
+    cursor: Option<usize>,
+    /// The largest `|g - mean g|` seen: the slip panel's steady scale.
+    slip_scale: f64,
+    pinned: Option<Pinned>,
     last_event: Option<String>,
     notice: Option<String>,
     failure: Option<String>,
     view: View,
-    /// The sweep view's sweep, or why there is none.
     sweep: Result<Sweep, String>,
+    sweep_log_w: bool,
+    sweep_saved: bool,
+    suspend: bool,
+    save_dir: std::path::PathBuf,
 }
 
 impl App {
@@ -158,7 +178,8 @@ impl App {
     /// the sweep view opens, so a user who never looks at it pays nothing.
     pub fn with_sweep(case: Case, config: Config, source: Result<SweepSource, String>) -> Self {
         let operators = stepping::operators(&case.disc);
-        let stepper = Self::fresh_stepper(&case, &operators);
+        let worker = Worker::spawn(Arc::clone(&operators));
+        worker.send(Command::Budget(config.history_bytes / 4));
         let mut paths = Initial::paper_set();
         let path_index = match paths.iter().position(|p| *p == case.initial) {
             Some(i) => i,
@@ -167,42 +188,50 @@ impl App {
                 paths.len() - 1
             }
         };
-        let row_capacity = (HISTORY_BYTES / case.disc.nodes()).max(MIN_HISTORY_ROWS);
-        Self {
+        let mut app = Self {
+            history: History::new(config.history_bytes),
             config,
             case,
             operators,
-            stepper,
+            worker,
+            generation: 0,
+            seq: 0,
+            sent: None,
+            started: false,
             paths,
             path_index,
             running: true,
             speed: DEFAULT_SPEED,
             goal: None,
             pause_on_events: false,
+            filter: Filter::default(),
             help: false,
+            log_open: false,
+            log_selected: 0,
             quit: false,
-            rows: VecDeque::new(),
-            row_capacity,
-            zones: Vec::new(),
-            recent_stuck: Vec::new(),
-            last_stick: None,
+            exit_code: 0,
+            confirm: None,
+            entry: None,
+            log: Default::default(),
+            log_dropped: 0,
+            cycles: Vec::new(),
+            transient: Vec::new(),
+            friction: 0.0,
+            cursor: None,
+            slip_scale: 0.0,
+            pinned: None,
             last_event: None,
             notice: None,
             failure: None,
             view: View::Stepping,
             sweep: source.map(Sweep::new),
-        }
-    }
-
-    fn fresh_stepper(case: &Case, operators: &Arc<Operators>) -> Stepper {
-        Stepper::with_operators(
-            Arc::clone(operators),
-            case.material,
-            case.disc,
-            &case.initial,
-            case.cycle,
-            case.options,
-        )
+            sweep_log_w: true,
+            sweep_saved: false,
+            suspend: false,
+            save_dir: std::path::PathBuf::from("."),
+        };
+        app.send_restart();
+        app
     }
 
     // ----- what the panels read -------------------------------------------
@@ -213,8 +242,8 @@ impl App {
     pub fn case(&self) -> &Case {
         &self.case
     }
-    pub fn stepper(&self) -> &Stepper {
-        &self.stepper
+    pub fn operators(&self) -> &Arc<Operators> {
+        &self.operators
     }
     pub fn load_factor(&self) -> f64 {
         self.case.cycle.load_factor
@@ -241,22 +270,110 @@ impl App {
     pub fn pauses_on_events(&self) -> bool {
         self.pause_on_events
     }
+    pub fn filter(&self) -> Filter {
+        self.filter
+    }
     pub fn help_visible(&self) -> bool {
         self.help
+    }
+    pub fn log_visible(&self) -> bool {
+        self.log_open
+    }
+    pub fn log_selected(&self) -> usize {
+        self.log_selected
     }
     pub fn should_quit(&self) -> bool {
         self.quit
     }
-    pub fn slip_rows(&self) -> &VecDeque<SlipRow> {
-        &self.rows
+    /// 0 after `q`, 130 after Ctrl-C.
+    pub fn exit_code(&self) -> u8 {
+        self.exit_code
     }
-    /// Nodes that went from slip to stick in the latest increment that had
-    /// advancing stick, if that was in the last batch of steps.
-    pub fn recent_stuck(&self) -> &[usize] {
-        &self.recent_stuck
+    pub fn confirm(&self) -> Option<Confirm> {
+        self.confirm
     }
-    pub fn last_stick(&self) -> Option<&StickInfo> {
-        self.last_stick.as_ref()
+    /// The typed entry in progress (after `:`).
+    pub fn entry(&self) -> Option<&str> {
+        self.entry.as_deref()
+    }
+    pub fn history(&self) -> &History {
+        &self.history
+    }
+    /// Every event kept, oldest first.
+    pub fn log(&self) -> &std::collections::VecDeque<LogEntry> {
+        &self.log
+    }
+    /// Log entries dropped to stay within budget.
+    pub fn log_dropped(&self) -> usize {
+        self.log_dropped
+    }
+    /// The log entries the overlay lists: those matching the filter.
+    pub fn log_entries(&self) -> Vec<&LogEntry> {
+        self.log
+            .iter()
+            .filter(|e| self.filter.kind.is_none() || self.filter.matches(e))
+            .collect()
+    }
+    /// `(cycle, W)` of every completed cycle.
+    pub fn cycles(&self) -> &[(usize, f64)] {
+        &self.cycles
+    }
+    pub fn transient(&self) -> &[Segment] {
+        &self.transient
+    }
+    pub fn friction(&self) -> f64 {
+        self.friction
+    }
+    pub fn slip_scale(&self) -> f64 {
+        self.slip_scale
+    }
+    pub fn pinned(&self) -> Option<&Pinned> {
+        self.pinned.as_ref()
+    }
+    /// Increments done by the run so far.
+    pub fn increments(&self) -> usize {
+        self.history.newest().map_or(0, |r| r.increment + 1)
+    }
+    /// The newest increment.
+    pub fn latest(&self) -> Option<&Record> {
+        self.history.newest()
+    }
+    /// The increment on screen: under the cursor, or the newest.
+    pub fn shown(&self) -> Option<&Record> {
+        match self.cursor {
+            Some(i) => self.history.get(i).or(self.history.newest()),
+            None => self.history.newest(),
+        }
+    }
+    /// The profiles on screen: the shown increment's, or the nearest
+    /// earlier one that kept them (older detail is decimated).
+    pub fn shown_detail(&self) -> Option<(&Record, &Detail)> {
+        self.history.detail_at(self.shown()?.increment)
+    }
+    /// `Some(increment)` while looking back at history.
+    pub fn cursor(&self) -> Option<usize> {
+        self.cursor
+    }
+    /// The run's status as of the newest increment.
+    pub fn status(&self) -> &Status {
+        const RUNNING: Status = Status::Running;
+        self.history.newest().map_or(&RUNNING, |r| &r.status)
+    }
+    /// The stepper's phase after the newest increment.
+    pub fn stepper_phase(&self) -> Phase {
+        self.history.newest().map_or(
+            match self.case.initial {
+                Initial::Direct => Phase::Cycle {
+                    cycle: 1,
+                    increment: 0,
+                },
+                _ => Phase::Transient {
+                    segment: 0,
+                    increment: 0,
+                },
+            },
+            |r| r.after,
+        )
     }
     pub fn last_event(&self) -> Option<&str> {
         self.last_event.as_deref()
@@ -268,44 +385,81 @@ impl App {
     pub fn failure(&self) -> Option<&str> {
         self.failure.as_deref()
     }
-    /// The contiguous slip zones now.
-    pub fn zones(&self) -> &[SlipZone] {
-        &self.zones
-    }
-
     pub fn view(&self) -> View {
         self.view
+    }
+    /// Which key table applies now.
+    pub fn mode(&self) -> Mode {
+        match self.view {
+            View::Sweep => Mode::Sweep,
+            View::Stepping if self.log_open => Mode::Log,
+            View::Stepping => Mode::Stepping,
+        }
     }
     /// The sweep view's sweep, or why there is none.
     pub fn sweep(&self) -> Result<&Sweep, &str> {
         self.sweep.as_ref().map_err(String::as_str)
     }
-    /// For tests and tools that feed rows in themselves (as the background
-    /// channel does), without starting the background sweep.
+    /// For tests and tools that feed rows in themselves.
     pub fn sweep_mut(&mut self) -> Option<&mut Sweep> {
         self.sweep.as_mut().ok()
     }
+    /// Where `s` in the sweep view saves the map (the current directory
+    /// unless changed).
+    pub fn set_save_dir(&mut self, dir: impl Into<std::path::PathBuf>) {
+        self.save_dir = dir.into();
+    }
+    /// Ctrl-Z was pressed: the loop, which owns the terminal, suspends.
+    pub fn take_suspend(&mut self) -> bool {
+        std::mem::take(&mut self.suspend)
+    }
+    /// The sweep view draws `W` on a log axis.
+    pub fn sweep_log_w(&self) -> bool {
+        self.sweep_log_w
+    }
 
-    /// Show `view` without starting anything: what snapshots use, so the
-    /// map holds only the rows they inject.
+    /// Show `view` without starting anything: what snapshots use.
     pub fn show_view(&mut self, view: View) {
         self.view = view;
     }
 
     // ----- input ------------------------------------------------------------
 
-    /// Dispatch a key through the key table.
+    /// Dispatch a key through the key table (or to the prompt open).
     pub fn handle_key(&mut self, key: KeyEvent) {
-        let Some(action) = keys::action_for(&key, self.view) else {
-            return;
-        };
-        // With the help open, Esc closes it rather than quitting: the
-        // help is the one place a user may press Esc just to back out.
-        if self.help && action == Action::Quit && key.code == crossterm::event::KeyCode::Esc {
-            self.help = false;
+        if let Some(c) = self.confirm.take() {
+            let yes = matches!(key.code, KeyCode::Char('y' | 'Y'))
+                || (key.code == KeyCode::Char('c')
+                    && key.modifiers.contains(KeyModifiers::CONTROL)
+                    && c == Confirm::Quit(130));
+            if yes {
+                match c {
+                    Confirm::Quit(code) => self.quit_now(code),
+                    Confirm::RestartSweep => self.restart_sweep(),
+                }
+            } else {
+                self.notice = Some("cancelled".into());
+            }
             return;
         }
+        if self.entry.is_some() {
+            self.entry_key(key);
+            return;
+        }
+        let Some(action) = keys::action_for(&key, self.mode()) else {
+            return;
+        };
         self.apply(action);
+    }
+
+    /// A mouse wheel notch: history back (`-1`) or forward. It never
+    /// changes `lambda` or `phi`.
+    pub fn scroll(&mut self, delta: i32) {
+        match self.mode() {
+            Mode::Log => self.move_log(delta as isize),
+            Mode::Sweep => self.with_sweep_mut(|s| s.move_run(-delta as isize)),
+            Mode::Stepping => self.scrub(delta as isize),
+        }
     }
 
     pub fn apply(&mut self, action: Action) {
@@ -322,17 +476,75 @@ impl App {
             Action::StepOne => {
                 self.running = false;
                 self.goal = None;
+                self.cursor = None;
                 if self.can_step() {
                     self.notice = None;
-                    self.run_batch(1, None);
+                    self.go(worker::Goal::Increments(1));
                 }
             }
-            Action::ToCycleEnd => self.set_goal(match self.stepper.phase() {
+            Action::Back1 => self.scrub(-1),
+            Action::Forward1 => self.scrub(1),
+            Action::BackCycle => self.scrub_cycle(-1),
+            Action::ForwardCycle => self.scrub_cycle(1),
+            Action::Oldest => {
+                if let Some(i) = self.history.oldest().map(|r| r.increment) {
+                    self.pause_for_history();
+                    self.cursor = Some(i);
+                }
+            }
+            Action::Live => {
+                self.cursor = None;
+                self.notice = Some("live".into());
+            }
+            Action::PrevEvent => self.jump_event(false),
+            Action::NextEvent => self.jump_event(true),
+            Action::EventKind => {
+                let i = KINDS
+                    .iter()
+                    .position(|k| *k == self.filter.kind)
+                    .unwrap_or(0);
+                self.filter.kind = KINDS[(i + 1) % KINDS.len()];
+                self.log_selected = 0;
+                self.filter_changed();
+            }
+            Action::MinNodes => {
+                let i = MIN_NODES
+                    .iter()
+                    .position(|k| *k == self.filter.min_nodes)
+                    .unwrap_or(0);
+                self.filter.min_nodes = MIN_NODES[(i + 1) % MIN_NODES.len()];
+                self.filter_changed();
+            }
+            Action::ToggleLog => {
+                self.log_open = !self.log_open;
+                let n = self.log_entries().len();
+                self.log_selected = n.saturating_sub(1);
+            }
+            Action::LogUp => self.move_log(-1),
+            Action::LogDown => self.move_log(1),
+            Action::LogPageUp => self.move_log(-10),
+            Action::LogPageDown => self.move_log(10),
+            Action::LogFirst => self.log_selected = 0,
+            Action::LogLast => self.log_selected = self.log_entries().len().saturating_sub(1),
+            Action::LogGo => {
+                if let Some(e) = self.log_entries().get(self.log_selected) {
+                    let i = e.increment;
+                    self.pause_for_history();
+                    self.cursor = Some(i);
+                    self.log_open = false;
+                    if self.history.get(i).is_none() {
+                        self.notice = Some("that increment was dropped from history".into());
+                    }
+                }
+            }
+            Action::Pin => self.pin(),
+            Action::Entry => self.entry = Some(String::new()),
+            Action::ToCycleEnd => self.set_goal(match self.stepper_phase() {
                 Phase::Transient { .. } => Goal::TransientEnd,
-                Phase::Cycle { .. } => Goal::CycleEnd(self.stepper.history().len() + 1),
+                Phase::Cycle { .. } => Goal::CycleEnd(self.cycles.len() + 1),
             }),
             Action::ToSteady => {
-                if let Status::Steady(s) = self.stepper.status() {
+                if let Status::Steady(s) = self.status() {
                     self.notice = Some(format!(
                         "already classified: {} after {} cycles",
                         s.state.as_str(),
@@ -356,35 +568,118 @@ impl App {
             }
             Action::PauseOnEvents => {
                 self.pause_on_events = !self.pause_on_events;
+                self.send_filter();
                 self.notice = Some(if self.pause_on_events {
-                    "pause on events: on (advancing stick, slip zones, classification)".into()
+                    format!("pause on events: on ({})", self.filter.describe())
                 } else {
                     "pause on events: off".into()
                 });
             }
             Action::Help => self.help = !self.help,
-            Action::Quit => self.request_quit(),
+            Action::Back => {
+                if self.help {
+                    self.help = false;
+                } else if self.log_open {
+                    self.log_open = false;
+                } else if self.view == View::Sweep {
+                    self.view = View::Stepping;
+                } else if self.cursor.is_some() {
+                    self.cursor = None;
+                    self.notice = Some("live".into());
+                }
+            }
+            Action::Quit => self.ask_quit(0),
+            Action::Interrupt => self.ask_quit(130),
+            Action::Suspend => self.suspend = true,
             Action::ToggleView => self.toggle_view(),
             Action::SweepPrevX => self.with_sweep_mut(|s| s.move_x(-1)),
             Action::SweepNextX => self.with_sweep_mut(|s| s.move_x(1)),
+            Action::SweepPageDown => self.with_sweep_mut(|s| s.move_x(-10)),
+            Action::SweepPageUp => self.with_sweep_mut(|s| s.move_x(10)),
+            Action::SweepFirst => self.with_sweep_mut(|s| s.move_x(-(isize::MAX / 2))),
+            Action::SweepLast => self.with_sweep_mut(|s| s.move_x(isize::MAX / 2)),
             Action::SweepPrevRun => self.with_sweep_mut(|s| s.move_run(-1)),
             Action::SweepNextRun => self.with_sweep_mut(|s| s.move_run(1)),
+            Action::SweepLogW => self.sweep_log_w = !self.sweep_log_w,
+            Action::SweepSave => self.save_sweep(),
             Action::OpenRun => self.open_selected(),
             Action::RestartSweep => {
-                if let Ok(s) = &mut self.sweep {
-                    s.start();
-                    self.notice = Some("sweep restarted".into());
+                if self.sweep_has_work() {
+                    self.confirm = Some(Confirm::RestartSweep);
+                } else {
+                    self.restart_sweep();
                 }
             }
         }
     }
 
-    /// Quit from outside the key table (a SIGINT). The sweep's runs not yet
-    /// started are dropped so the process is not kept busy on the way out.
+    /// Whether leaving would throw away a sweep map: one still running, or
+    /// finished and not saved.
+    fn sweep_has_work(&self) -> bool {
+        self.sweep
+            .as_ref()
+            .is_ok_and(|s| s.started() && (s.is_running() || (s.done() > 0 && !self.sweep_saved)))
+    }
+
+    fn ask_quit(&mut self, code: u8) {
+        if self.sweep_has_work() {
+            self.confirm = Some(Confirm::Quit(code));
+        } else {
+            self.quit_now(code);
+        }
+    }
+
+    fn quit_now(&mut self, code: u8) {
+        self.exit_code = code;
+        self.request_quit();
+    }
+
+    /// Quit from outside the key table (a signal). The sweep's runs not
+    /// yet started are dropped so the process is not kept busy.
     pub fn request_quit(&mut self) {
         self.quit = true;
+        self.worker.send(Command::Pause);
         if let Ok(s) = &mut self.sweep {
             s.cancel();
+        }
+    }
+
+    /// Quit with a status, from a signal.
+    pub fn request_quit_with(&mut self, code: u8) {
+        self.exit_code = code;
+        self.request_quit();
+    }
+
+    fn restart_sweep(&mut self) {
+        if let Ok(s) = &mut self.sweep {
+            s.start();
+            self.sweep_saved = false;
+            self.notice = Some("sweep restarted".into());
+        }
+    }
+
+    fn save_sweep(&mut self) {
+        let Ok(s) = &self.sweep else {
+            return;
+        };
+        let path = self
+            .save_dir
+            .join(format!("sweep-{}.csv", s.source().name))
+            .display()
+            .to_string();
+        let mut text = String::from(crate::analysis::sweep::CSV_HEADER);
+        text.push('\n');
+        for row in s.rows() {
+            text.push_str(&row.csv_line());
+            text.push('\n');
+        }
+        let n = s.done();
+        match std::fs::write(&path, text) {
+            Ok(()) => {
+                self.sweep_saved = !s.is_running();
+                self.notice = Some(format!("saved {n} runs to {path}"));
+            }
+            Err(e) => self.notice = Some(format!("cannot save {path}: {e}")),
         }
     }
 
@@ -394,11 +689,189 @@ impl App {
         }
     }
 
+    fn filter_changed(&mut self) {
+        self.send_filter();
+        self.notice = Some(format!("events: {}", self.filter.describe()));
+    }
+
+    fn send_filter(&self) {
+        self.worker.send(Command::PauseOn(
+            self.pause_on_events.then_some(self.filter),
+        ));
+    }
+
+    fn move_log(&mut self, delta: isize) {
+        let n = self.log_entries().len();
+        self.log_selected = self
+            .log_selected
+            .saturating_add_signed(delta)
+            .min(n.saturating_sub(1));
+    }
+
+    /// Looking back pauses the run, so the instant stays put.
+    fn pause_for_history(&mut self) {
+        if self.running || self.goal.is_some() {
+            self.running = false;
+            self.goal = None;
+        }
+    }
+
+    fn scrub(&mut self, delta: isize) {
+        let (Some(first), Some(last)) = (self.history.oldest(), self.history.newest()) else {
+            return;
+        };
+        let (first, last) = (first.increment, last.increment);
+        let now = self.cursor.unwrap_or(last);
+        let to = now.saturating_add_signed(delta).clamp(first, last);
+        if delta > 0 && to == last {
+            self.cursor = None;
+            self.notice = Some("live".into());
+            return;
+        }
+        self.pause_for_history();
+        self.cursor = Some(to);
+        self.notice = None;
+    }
+
+    fn scrub_cycle(&mut self, delta: isize) {
+        let steps = self.case.disc.steps_per_cycle() as isize;
+        self.scrub(delta * steps);
+    }
+
+    fn jump_event(&mut self, forward: bool) {
+        let now = self.shown().map_or(0, |r| r.increment);
+        let found = if forward {
+            self.log
+                .iter()
+                .find(|e| e.increment > now && self.filter.matches(e))
+        } else {
+            self.log
+                .iter()
+                .rev()
+                .find(|e| e.increment < now && self.filter.matches(e))
+        };
+        match found {
+            Some(e) => {
+                let (i, text) = (e.increment, e.text.clone());
+                self.pause_for_history();
+                self.cursor = Some(i);
+                if self.history.newest().is_some_and(|r| r.increment == i) {
+                    self.cursor = None;
+                }
+                self.notice = Some(format!("at {text}"));
+            }
+            None => {
+                self.notice = Some(format!(
+                    "no {} event {}",
+                    self.filter.describe(),
+                    if forward { "later" } else { "earlier" }
+                ))
+            }
+        }
+    }
+
+    fn pin(&mut self) {
+        if self.pinned.is_some() {
+            self.pinned = None;
+            self.notice = Some("unpinned".into());
+            return;
+        }
+        let Some((_, d)) = self.shown_detail() else {
+            self.notice = Some("nothing to pin yet".into());
+            return;
+        };
+        let slip = d.slip.clone();
+        let state = match self.status() {
+            Status::Running => "unclassified".to_string(),
+            Status::Steady(s) | Status::Ended(s) => s.state.as_str().to_string(),
+        };
+        let label = format!(
+            "lambda {} phi {} {}",
+            format_load_factor(self.load_factor()),
+            format_phase(self.phase()),
+            self.case.initial.name()
+        );
+        self.notice = Some(format!("pinned {label}: change the run to compare"));
+        self.pinned = Some(Pinned {
+            label,
+            state,
+            cycles: self.cycles.clone(),
+            slip,
+        });
+    }
+
+    fn entry_key(&mut self, key: KeyEvent) {
+        let Some(text) = &mut self.entry else {
+            return;
+        };
+        match key.code {
+            KeyCode::Esc => {
+                self.entry = None;
+                self.notice = Some("cancelled".into());
+            }
+            KeyCode::Backspace => {
+                text.pop();
+            }
+            KeyCode::Enter => {
+                let text = self.entry.take().unwrap_or_default();
+                self.apply_entry(&text);
+            }
+            KeyCode::Char(c) if text.len() < 40 => text.push(c),
+            _ => {}
+        }
+    }
+
+    /// `lambda = 5.13`, `phi = pi/4` (or radians), `path = OA`.
+    fn apply_entry(&mut self, text: &str) {
+        let (name, value) = match text.split_once(['=', ' ']) {
+            Some((n, v)) => (
+                n.trim().to_lowercase(),
+                v.trim().trim_start_matches('=').trim(),
+            ),
+            None => {
+                self.notice =
+                    Some("type name = value: lambda = 5.13, phi = pi/4, path = OA".into());
+                return;
+            }
+        };
+        match name.as_str() {
+            "lambda" | "l" | "λ" => match value.parse::<f64>() {
+                Ok(v) if v >= 0.0 && v.is_finite() => {
+                    self.change_cycle(v, self.phase(), format!("lambda {}", format_load_factor(v)))
+                }
+                _ => self.notice = Some(format!("not a lambda: {value}")),
+            },
+            "phi" | "p" | "φ" => match parse_phase(value) {
+                Some(v) => {
+                    self.change_cycle(self.load_factor(), v, format!("phi {}", format_phase(v)))
+                }
+                None => self.notice = Some(format!("not a phase: {value}")),
+            },
+            "path" | "initial" => {
+                match self
+                    .paths
+                    .iter()
+                    .position(|p| p.name().eq_ignore_ascii_case(value))
+                {
+                    Some(i) => {
+                        self.path_index = i;
+                        self.case.initial = self.paths[i].clone();
+                        self.restart(&format!("path {}", self.case.initial.name()));
+                    }
+                    None => self.notice = Some(format!("no initial path {value}")),
+                }
+            }
+            _ => self.notice = Some(format!("unknown name {name}: lambda, phi or path")),
+        }
+    }
+
     fn toggle_view(&mut self) {
         self.view = match self.view {
             View::Stepping => View::Sweep,
             View::Sweep => View::Stepping,
         };
+        self.help = false;
+        self.log_open = false;
         match (&mut self.sweep, self.view) {
             (Ok(s), View::Sweep) if !s.started() => {
                 s.start();
@@ -413,9 +886,360 @@ impl App {
         }
     }
 
-    /// Open the run under the sweep cursor in the stepping view: its
-    /// `lambda`, `phi` and initial path, restarted from O like the keys
-    /// that change them.
+    fn can_step(&mut self) -> bool {
+        if let Some(f) = &self.failure {
+            self.notice = Some(format!("the solver failed ({f}); r to rerun"));
+            return false;
+        }
+        if let Status::Ended(s) = self.status() {
+            self.notice = Some(format!(
+                "the run has ended ({}); r to rerun, or change lambda, phi or the path",
+                s.state.as_str()
+            ));
+            return false;
+        }
+        true
+    }
+
+    fn run_pause(&mut self) {
+        if self.running || self.goal.is_some() {
+            self.running = false;
+            self.goal = None;
+            self.notice = Some("paused".into());
+        } else if self.can_step() {
+            self.running = true;
+            self.cursor = None;
+            self.notice = None;
+        }
+    }
+
+    fn set_goal(&mut self, goal: Goal) {
+        if self.can_step() {
+            self.running = false;
+            self.cursor = None;
+            self.goal = Some(goal);
+            self.notice = Some(match goal {
+                Goal::TransientEnd => "to the end of the transient…".into(),
+                Goal::CycleEnd(c) => format!("to the end of cycle {c}…"),
+                Goal::Steady => "to the steady state…".into(),
+            });
+        }
+    }
+
+    fn change_load_factor(&mut self, delta: f64) {
+        let old = self.load_factor();
+        let new = ((old + delta) * 1e6).round() / 1e6;
+        let new = new.max(0.0);
+        if new == old {
+            self.notice = Some("lambda cannot go below 0".into());
+            return;
+        }
+        self.change_cycle(
+            new,
+            self.phase(),
+            format!("lambda {}", format_load_factor(new)),
+        );
+    }
+
+    fn change_phase(&mut self, sign: f64) {
+        let old = self.phase();
+        let k = (old / PHASE_STEP).round();
+        let mut new = if (old - k * PHASE_STEP).abs() < 1e-9 {
+            (k + sign) * PHASE_STEP
+        } else {
+            old + sign * PHASE_STEP
+        };
+        if new > PI + 1e-9 {
+            new -= 2.0 * PI;
+        } else if new <= -PI + 1e-9 {
+            new += 2.0 * PI;
+        }
+        self.change_cycle(
+            self.load_factor(),
+            new,
+            format!("phi {}", format_phase(new)),
+        );
+    }
+
+    fn change_cycle(&mut self, load_factor: f64, phase: f64, what: String) {
+        let c = &self.case.cycle;
+        match Cycle::new(c.center, load_factor, c.slope, phase) {
+            Ok(cycle) => {
+                self.case.cycle = cycle;
+                self.restart(&what);
+            }
+            Err(e) => self.notice = Some(e.to_string()),
+        }
+    }
+
+    fn change_path(&mut self, offset: usize) {
+        self.path_index = (self.path_index + offset) % self.paths.len();
+        self.case.initial = self.paths[self.path_index].clone();
+        let what = format!("path {}", self.case.initial.name());
+        self.restart(&what);
+    }
+
+    fn send_restart(&mut self) {
+        self.generation += 1;
+        self.sent = None;
+        self.worker.send(Command::Restart {
+            generation: self.generation,
+            case: Box::new(self.case.clone()),
+        });
+        self.send_filter();
+    }
+
+    /// Start the run again (the work it replaces is cancelled), keeping
+    /// the running/paused choice and the pinned run.
+    fn restart(&mut self, why: &str) {
+        self.send_restart();
+        self.history.clear();
+        self.log.clear();
+        self.log_dropped = 0;
+        self.log_selected = 0;
+        self.cycles.clear();
+        self.transient.clear();
+        self.cursor = None;
+        self.slip_scale = 0.0;
+        self.last_event = None;
+        self.failure = None;
+        self.goal = None;
+        let from = match self.case.initial {
+            Initial::Slip { .. } => "restarted at A with the prescribed slip",
+            _ => "restarted from O",
+        };
+        self.notice = Some(format!("{why}: {from}"));
+    }
+
+    // ----- the worker ---------------------------------------------------------
+
+    /// What the worker should be doing now.
+    fn wanted(&self) -> Option<worker::Goal> {
+        if self.view == View::Sweep || self.quit || self.failure.is_some() {
+            return None;
+        }
+        match self.goal {
+            Some(Goal::TransientEnd) => Some(worker::Goal::TransientEnd),
+            Some(Goal::CycleEnd(_)) => Some(worker::Goal::CycleEnd),
+            Some(Goal::Steady) => Some(worker::Goal::Steady),
+            None if self.running => Some(worker::Goal::Paced(self.speed())),
+            None => None,
+        }
+    }
+
+    fn go(&mut self, goal: worker::Goal) {
+        self.seq += 1;
+        self.sent = Some(goal);
+        self.worker.send(Command::Go {
+            seq: self.seq,
+            goal,
+        });
+    }
+
+    /// Tell the worker what is wanted, if that changed.
+    fn sync(&mut self) {
+        let wanted = self.wanted();
+        if wanted == self.sent
+            || (wanted.is_none() && matches!(self.sent, Some(worker::Goal::Increments(_))))
+        {
+            return;
+        }
+        match wanted {
+            Some(g) => self.go(g),
+            None => {
+                self.seq += 1;
+                self.worker.send(Command::Pause);
+                self.sent = None;
+            }
+        }
+    }
+
+    /// One frame: take what the worker sent (at most `budget` of time),
+    /// poll the sweep, and tell the worker what to do next.
+    pub fn tick(&mut self, budget: Duration) {
+        let deadline = Instant::now() + budget;
+        if let Ok(s) = &mut self.sweep {
+            s.poll();
+        }
+        self.started = true;
+        self.sync();
+        for i in 0..MAX_REPLIES_PER_FRAME {
+            if i % 256 == 255 && Instant::now() >= deadline {
+                break;
+            }
+            match self.worker.try_recv() {
+                Some(r) => self.take(r),
+                None => break,
+            }
+        }
+        self.sync();
+    }
+
+    /// Exactly `n` increments (fewer if the run stops), waiting for them:
+    /// what tests use to reach a reproducible state.
+    pub fn advance(&mut self, n: usize) {
+        if self.sent.is_some() {
+            self.seq += 1;
+            self.worker.send(Command::Pause);
+            self.sent = None;
+        }
+        self.go(worker::Goal::Increments(n));
+        let seq = self.seq;
+        while let Some(reply) = self.worker.recv() {
+            let done = matches!(&reply, Reply::Stopped { seq: s, generation, .. }
+                if *s == seq && *generation == self.generation);
+            self.take(reply);
+            if done {
+                break;
+            }
+        }
+        self.sent = None;
+    }
+
+    /// Wait until the worker has finished what it was last asked (a run
+    /// that goes on for ever is paused first), and take all it sent:
+    /// what tests use after a key that steps.
+    pub fn settle(&mut self) {
+        if matches!(self.sent, Some(worker::Goal::Paced(_))) || self.sent.is_none() {
+            self.advance(0);
+            return;
+        }
+        while self.sent.is_some() {
+            match self.worker.recv() {
+                Some(r) => self.take(r),
+                None => break,
+            }
+        }
+    }
+
+    /// Whether the loop has stepping to do (else it can sleep longer).
+    pub fn is_busy(&self) -> bool {
+        if self.sweep.as_ref().is_ok_and(|s| {
+            s.is_running() || s.started() && matches!(s.limit(), LimitState::Computing)
+        }) {
+            return true;
+        }
+        self.sent.is_some() || self.view == View::Stepping && (self.running || self.goal.is_some())
+    }
+
+    /// File `record` as if the worker had sent it (its generation is set
+    /// to the current run's): tests drive a fixed, synthetic state with it,
+    /// so screen snapshots hold no solver numbers.
+    pub fn feed(&mut self, mut record: Record) {
+        record.generation = self.generation;
+        self.file(record);
+    }
+
+    /// Set the transient and friction coefficient as the worker's start of
+    /// a run does (tests, with [`App::feed`]).
+    pub fn feed_started(&mut self, transient: Vec<Segment>, friction: f64) {
+        self.transient = transient;
+        self.friction = friction;
+    }
+
+    fn take(&mut self, reply: Reply) {
+        match reply {
+            Reply::Started {
+                generation,
+                transient,
+                friction,
+            } if generation == self.generation => {
+                self.transient = transient;
+                self.friction = friction;
+            }
+            Reply::Record(r) if r.generation == self.generation => self.file(*r),
+            Reply::Stopped {
+                generation,
+                seq,
+                why,
+            } if generation == self.generation && seq == self.seq => {
+                self.sent = None;
+                self.stopped(why);
+            }
+            _ => {}
+        }
+    }
+
+    fn stopped(&mut self, why: Stopped) {
+        match why {
+            Stopped::Reached => {
+                if let Some(goal) = self.goal.take() {
+                    self.notice = Some(match (goal, self.status()) {
+                        (Goal::Steady, Status::Steady(s) | Status::Ended(s)) => format!(
+                            "steady state: {} after {} cycles",
+                            s.state.as_str(),
+                            s.cycles
+                        ),
+                        (Goal::TransientEnd, _) => "end of the transient".into(),
+                        (Goal::CycleEnd(c), _) => format!("end of cycle {c}"),
+                        (Goal::Steady, _) => "stopped".into(),
+                    });
+                }
+            }
+            Stopped::Event(text) => {
+                self.running = false;
+                self.goal = None;
+                self.last_event = Some(text);
+                self.notice = Some("paused on the event (Space runs on)".into());
+            }
+            Stopped::Ended => {
+                self.running = false;
+                self.goal = None;
+                if let Status::Ended(s) | Status::Steady(s) = self.status() {
+                    self.notice = Some(format!("the run ended: {}", s.state.as_str()));
+                }
+            }
+            Stopped::Failed(text) => {
+                self.running = false;
+                self.goal = None;
+                self.last_event = Some(format!("solver failed: {text}"));
+                self.failure = Some(text);
+            }
+            Stopped::Memory => {
+                self.running = false;
+                self.goal = None;
+                self.notice =
+                    Some("paused: the steady run's cycle records reached the memory budget".into());
+            }
+            Stopped::Cancelled => {}
+        }
+    }
+
+    fn file(&mut self, r: Record) {
+        if let Some(d) = &r.detail {
+            let m = d
+                .slip
+                .iter()
+                .chain(d.slip_before.iter().flatten())
+                .fold(0.0f32, |m, v| m.max(v.abs()));
+            self.slip_scale = self.slip_scale.max(f64::from(m));
+        }
+        if let Some(c) = r.completed {
+            self.cycles.push(c);
+        }
+        for e in &r.events {
+            self.last_event = Some(e.text.clone());
+            // The log gets an eighth of the history budget.
+            let max_log = (self.config.history_bytes / 8 / LOG_ENTRY_BYTES).max(1000);
+            if self.log.len() >= max_log {
+                self.log.pop_front();
+                self.log_dropped += 1;
+                self.log_selected = self.log_selected.saturating_sub(1);
+            }
+            self.log.push_back(e.clone());
+        }
+        self.history.push(r);
+        if let Some(c) = self.cursor {
+            // The cursor's increment was dropped: hold the oldest kept.
+            if let Some(first) = self.history.oldest() {
+                if c < first.increment {
+                    self.cursor = Some(first.increment);
+                }
+            }
+        }
+    }
+
+    /// Open the run under the sweep cursor in the stepping view.
     fn open_selected(&mut self) {
         let Ok(sweep) = &self.sweep else {
             return;
@@ -426,9 +1250,6 @@ impl App {
         };
         let job = *job;
         let initial = match sweep.initial(&job) {
-            // The stepper needs the slip itself. The limit computed for the
-            // map at this phase is that slip; only when it is not known yet
-            // (or is for another phase) is the programme solved here.
             Initial::Optimal => match sweep.limit() {
                 LimitState::Known(l) if sweep.source().spec.phases() == [job.phase] => {
                     Initial::Slip {
@@ -487,466 +1308,29 @@ impl App {
         );
         self.restart(&what);
     }
-
-    fn can_step(&mut self) -> bool {
-        if let Some(f) = &self.failure {
-            self.notice = Some(format!("the solver failed ({f}); r to rerun"));
-            return false;
-        }
-        if let Status::Ended(s) = self.stepper.status() {
-            self.notice = Some(format!(
-                "the run has ended ({}); r to rerun, or change lambda, phi or the path",
-                s.state.as_str()
-            ));
-            return false;
-        }
-        true
-    }
-
-    fn run_pause(&mut self) {
-        if self.running || self.goal.is_some() {
-            self.running = false;
-            self.goal = None;
-            self.notice = Some("paused".into());
-        } else if self.can_step() {
-            self.running = true;
-            self.notice = None;
-        }
-    }
-
-    fn set_goal(&mut self, goal: Goal) {
-        if self.can_step() {
-            self.running = false;
-            self.goal = Some(goal);
-            self.notice = Some(match goal {
-                Goal::TransientEnd => "to the end of the transient…".into(),
-                Goal::CycleEnd(c) => format!("to the end of cycle {c}…"),
-                Goal::Steady => "to the steady state…".into(),
-            });
-        }
-    }
-
-    fn change_load_factor(&mut self, delta: f64) {
-        let old = self.load_factor();
-        // Rounded so that repeated steps of 0.05 show as 5.55, not 5.550000001.
-        let new = ((old + delta) * 1e6).round() / 1e6;
-        let new = new.max(0.0);
-        if new == old {
-            self.notice = Some("lambda cannot go below 0".into());
-            return;
-        }
-        self.change_cycle(
-            new,
-            self.phase(),
-            format!("lambda {}", format_load_factor(new)),
-        );
-    }
-
-    fn change_phase(&mut self, sign: f64) {
-        let old = self.phase();
-        let k = (old / PHASE_STEP).round();
-        // Stay on the grid of pi/24 when on it, so labels stay exact.
-        let mut new = if (old - k * PHASE_STEP).abs() < 1e-9 {
-            (k + sign) * PHASE_STEP
-        } else {
-            old + sign * PHASE_STEP
-        };
-        // phi and phi +- 2 pi are the same cycle; keep it in (-pi, pi].
-        if new > PI + 1e-9 {
-            new -= 2.0 * PI;
-        } else if new <= -PI + 1e-9 {
-            new += 2.0 * PI;
-        }
-        self.change_cycle(
-            self.load_factor(),
-            new,
-            format!("phi {}", format_phase(new)),
-        );
-    }
-
-    fn change_cycle(&mut self, load_factor: f64, phase: f64, what: String) {
-        let c = &self.case.cycle;
-        match Cycle::new(c.center, load_factor, c.slope, phase) {
-            Ok(cycle) => {
-                self.case.cycle = cycle;
-                self.restart(&what);
-            }
-            Err(e) => self.notice = Some(e.to_string()),
-        }
-    }
-
-    fn change_path(&mut self, offset: usize) {
-        self.path_index = (self.path_index + offset) % self.paths.len();
-        self.case.initial = self.paths[self.path_index].clone();
-        let what = format!("path {}", self.case.initial.name());
-        self.restart(&what);
-    }
-
-    /// Start the run again from the unloaded state (or from `A` with a
-    /// prescribed slip), keeping the running/paused choice.
-    fn restart(&mut self, why: &str) {
-        self.stepper = Self::fresh_stepper(&self.case, &self.operators);
-        self.rows.clear();
-        self.zones.clear();
-        self.recent_stuck.clear();
-        self.last_stick = None;
-        self.last_event = None;
-        self.failure = None;
-        self.goal = None;
-        let from = match self.case.initial {
-            Initial::Slip { .. } => "restarted at A with the prescribed slip",
-            _ => "restarted from O",
-        };
-        self.notice = Some(format!("{why}: {from}"));
-    }
-
-    // ----- stepping -----------------------------------------------------------
-
-    /// One frame's stepping: the goal if there is one (as fast as the
-    /// budget allows), else `speed` increments if running.
-    pub fn tick(&mut self, budget: Duration) {
-        let deadline = Instant::now() + budget;
-        if let Ok(s) = &mut self.sweep {
-            s.poll();
-        }
-        // The stepping run waits while the map is shown: its increments
-        // would only take a core from the sweep the user is watching.
-        if self.view == View::Sweep {
-            return;
-        }
-        if self.goal.is_some() {
-            self.run_batch(usize::MAX, Some(deadline));
-        } else if self.running {
-            self.run_batch(self.speed(), Some(deadline));
-        }
-    }
-
-    /// Exactly `n` increments (fewer if the run stops), with no clock
-    /// involved: what tests use to reach a reproducible state.
-    pub fn advance(&mut self, n: usize) {
-        self.run_batch(n, None);
-    }
-
-    /// Whether the loop has stepping to do (else it can sleep longer).
-    pub fn is_busy(&self) -> bool {
-        if self.sweep.as_ref().is_ok_and(|s| {
-            s.is_running() || s.started() && matches!(s.limit(), LimitState::Computing)
-        }) {
-            return true;
-        }
-        self.view == View::Stepping
-            && (self.running || self.goal.is_some())
-            && self.failure.is_none()
-            && !self.stepper.is_finished()
-    }
-
-    fn goal_reached(&self) -> bool {
-        match self.goal {
-            None => false,
-            Some(Goal::TransientEnd) => matches!(self.stepper.phase(), Phase::Cycle { .. }),
-            Some(Goal::CycleEnd(n)) => self.stepper.history().len() >= n,
-            Some(Goal::Steady) => !matches!(self.stepper.status(), Status::Running),
-        }
-    }
-
-    fn finish_goal(&mut self) {
-        let Some(goal) = self.goal.take() else {
-            return;
-        };
-        self.notice = Some(match (goal, self.stepper.summary()) {
-            (Goal::Steady, Some(s)) => format!(
-                "steady state: {} after {} cycles",
-                s.state.as_str(),
-                s.cycles
-            ),
-            (Goal::TransientEnd, _) => "end of the transient".into(),
-            (Goal::CycleEnd(c), _) => format!("end of cycle {c}"),
-            (Goal::Steady, None) => "stopped".into(),
-        });
-    }
-
-    fn run_batch(&mut self, max: usize, deadline: Option<Instant>) {
-        let mut cleared = false;
-        for _ in 0..max {
-            if self.goal_reached() {
-                self.finish_goal();
-                return;
-            }
-            if deadline.is_some_and(|d| Instant::now() >= d) {
-                return;
-            }
-            if !cleared {
-                // Highlights are per batch so none is lost when many
-                // increments go by between two frames.
-                self.recent_stuck.clear();
-                cleared = true;
-            }
-            match self.step_once() {
-                Ok(()) => {}
-                Err(Stop::Blocked) => {
-                    self.running = false;
-                    self.goal = None;
-                    return;
-                }
-                Err(Stop::Paused) => {
-                    self.running = false;
-                    self.goal = None;
-                    return;
-                }
-            }
-        }
-        if self.goal_reached() {
-            self.finish_goal();
-        }
-    }
-
-    fn step_once(&mut self) -> Result<(), Stop> {
-        if self.failure.is_some() || self.stepper.is_finished() {
-            return Err(Stop::Blocked);
-        }
-        let phase = self.stepper.phase();
-        let before = self.stepper.increments();
-        let report = match self.stepper.step() {
-            Ok(r) => r,
-            Err(e) => {
-                let text = e.to_string();
-                self.last_event = Some(format!("solver failed: {text}"));
-                self.failure = Some(text);
-                return Err(Stop::Blocked);
-            }
-        };
-        if self.stepper.increments() > before {
-            self.record_row(phase, before, &report.newly_stuck);
-        }
-        if !report.newly_stuck.is_empty() {
-            // Only the latest advancing stick is "just stuck": a batch of
-            // hundreds of increments would otherwise light up everything.
-            self.recent_stuck.clone_from(&report.newly_stuck);
-        }
-
-        let mut pause: Option<String> = None;
-        // Set when an event worth pausing for happened; its text is what
-        // the status line shows as the last event.
-        for event in &report.events {
-            let text = match event {
-                Event::SlipSetChanged {
-                    slipping,
-                    zones,
-                    changes,
-                } => {
-                    self.zones = slip_zones(self.stepper.contact().directions());
-                    if changes.is_empty() {
-                        format!(
-                            "slip set changed: {slipping} nodes slipping in {}",
-                            plural(*zones, "zone")
-                        )
-                    } else {
-                        let names: Vec<String> = changes.iter().map(|c| c.to_string()).collect();
-                        let text = format!("{} ({} now)", names.join(", "), plural(*zones, "zone"));
-                        if changes
-                            .iter()
-                            .any(|c| !matches!(c, ZoneChange::Vanished(_)))
-                        {
-                            pause.get_or_insert_with(|| text.clone());
-                        }
-                        text
-                    }
-                }
-                Event::AdvancingStick { nodes, substeps } => {
-                    self.last_stick = Some(StickInfo {
-                        nodes: nodes.clone(),
-                        substeps: *substeps,
-                        increment: before,
-                    });
-                    let text = format!(
-                        "advancing stick at {} ({} sub-increments)",
-                        describe_nodes(nodes, self.case.disc.nodes()),
-                        substeps
-                    );
-                    pause.get_or_insert_with(|| text.clone());
-                    text
-                }
-                Event::TransientFinished => "transient finished: cycle 1 begins".into(),
-                Event::CycleCompleted {
-                    cycle,
-                    dissipation,
-                    rotation,
-                } => format!(
-                    "cycle {cycle} completed: W = {}, rotation {}",
-                    format_sci(*dissipation),
-                    format_sci(*rotation)
-                ),
-                Event::SteadyStateReached(s) => {
-                    let text =
-                        format!("classified: {} after {} cycles", s.state.as_str(), s.cycles);
-                    pause = Some(text.clone());
-                    text
-                }
-                Event::GrossSlip { load, .. } => {
-                    format!(
-                        "gross slip at load point ({:.3}, {:.3})",
-                        load.x(),
-                        load.y()
-                    )
-                }
-                Event::Separation { theta, .. } => {
-                    format!("separation at theta = {:.3}pi", theta / PI)
-                }
-            };
-            self.last_event = Some(text);
-        }
-        if self.stepper.is_finished() {
-            if let Some(s) = self.stepper.summary() {
-                self.notice = Some(format!("the run ended: {}", s.state.as_str()));
-            }
-            return Err(Stop::Blocked);
-        }
-        match pause {
-            Some(text) if self.pause_on_events => {
-                // The event itself goes on the status line, where the last
-                // event is shown, so the notice need not repeat it.
-                self.last_event = Some(text);
-                self.notice = Some("paused on the event (Space runs on)".into());
-                Err(Stop::Paused)
-            }
-            _ => Ok(()),
-        }
-    }
-
-    fn record_row(&mut self, phase: Phase, increment: usize, newly_stuck: &[usize]) {
-        let (cycle, cycle_start) = match phase {
-            Phase::Transient { .. } => (0, false),
-            Phase::Cycle { cycle, increment } => (cycle, increment == 0),
-        };
-        let mut cells: Vec<u8> = self
-            .stepper
-            .contact()
-            .directions()
-            .iter()
-            .map(|d| match d {
-                SlipDirection::Stick => STICK,
-                SlipDirection::Forward => FORWARD,
-                SlipDirection::Backward => BACKWARD,
-            })
-            .collect();
-        for &j in newly_stuck {
-            if let Some(c) = cells.get_mut(j) {
-                *c |= NEWLY_STUCK;
-            }
-        }
-        if self.rows.len() == self.row_capacity {
-            self.rows.pop_front();
-        }
-        self.rows.push_back(SlipRow {
-            increment,
-            cycle,
-            cycle_start,
-            cells,
-        });
-    }
 }
 
-/// Nodes as runs of neighbours, by their angle: `theta/pi = -0.73..-0.70`.
-fn describe_nodes(nodes: &[usize], n: usize) -> String {
-    let theta = |j: usize| node_theta(j, n) / PI;
-    let mut runs: Vec<(usize, usize)> = Vec::new();
-    for &j in nodes {
-        match runs.last_mut() {
-            Some((_, last)) if *last + 1 == j => *last = j,
-            _ => runs.push((j, j)),
-        }
+/// `pi/4`, `-3pi/8`, `0.3`.
+fn parse_phase(s: &str) -> Option<f64> {
+    let s = s.trim().replace('π', "pi");
+    if let Ok(v) = s.parse::<f64>() {
+        return v.is_finite().then_some(v);
     }
-    let shown: Vec<String> = runs
-        .iter()
-        .take(3)
-        .map(|&(a, b)| {
-            if a == b {
-                format!("{:.2}", theta(a))
-            } else {
-                format!("{:.2}..{:.2}", theta(a), theta(b))
-            }
-        })
-        .collect();
-    let more = if runs.len() > 3 { ", …" } else { "" };
-    format!(
-        "{}, theta/pi = {}{more}",
-        plural(nodes.len(), "node"),
-        shown.join(", ")
-    )
-}
-
-/// `1 zone`, `2 zones`.
-pub fn plural(n: usize, noun: &str) -> String {
-    if n == 1 {
-        format!("1 {noun}")
-    } else {
-        format!("{n} {noun}s")
-    }
-}
-
-/// Node angle shown in `[-pi, pi)`, the range the paper's figures use.
-pub fn node_theta(j: usize, n: usize) -> f64 {
-    let t = 2.0 * PI * j as f64 / n as f64;
-    if t >= PI {
-        t - 2.0 * PI
-    } else {
-        t
-    }
-}
-
-/// `lambda` with at least two decimals: `5.50`, `5.55`, `5.123`.
-pub fn format_load_factor(v: f64) -> String {
-    let two = format!("{v:.2}");
-    if (two.parse::<f64>().unwrap_or(v) - v).abs() < 1e-9 {
-        two
-    } else {
-        let s = format!("{v:.6}");
-        s.trim_end_matches('0').to_string()
-    }
-}
-
-/// `phi` as a multiple of `pi` when it is one of the `pi/24` steps
-/// (`0`, `pi/24`, `-3pi/8`), else in radians.
-pub fn format_phase(v: f64) -> String {
-    let k = (v / PHASE_STEP).round();
-    if (v - k * PHASE_STEP).abs() > 1e-9 {
-        return format!("{v:.4} rad");
-    }
-    let k = k as i64;
-    if k == 0 {
-        return "0".into();
-    }
-    let g = gcd(k.unsigned_abs(), 24) as i64;
-    let (num, den) = (k / g, 24 / g);
-    let sign = if num < 0 { "-" } else { "" };
-    let num = num.abs();
-    let head = if num == 1 {
-        format!("{sign}pi")
-    } else {
-        format!("{sign}{num}pi")
+    let (num, den) = match s.split_once('/') {
+        Some((a, b)) => (a.trim(), b.trim().parse::<f64>().ok()?),
+        None => (s.as_str(), 1.0),
     };
-    if den == 1 {
-        head
-    } else {
-        format!("{head}/{den}")
-    }
+    let k = match num.strip_suffix("pi")?.trim() {
+        "" => 1.0,
+        "-" => -1.0,
+        k => k.parse::<f64>().ok()?,
+    };
+    Some(k * PI / den)
 }
 
-fn gcd(a: u64, b: u64) -> u64 {
-    if b == 0 {
-        a
-    } else {
-        gcd(b, a % b)
-    }
-}
-
-/// Three significant digits in scientific notation, `-` for zero.
-pub fn format_sci(v: f64) -> String {
-    if v == 0.0 {
-        "0".into()
-    } else {
-        format!("{v:.2e}")
-    }
+/// Kinds the log and jump keys know, for tests.
+pub fn event_kinds() -> &'static [Option<EventKind>] {
+    &KINDS
 }
 
 #[cfg(test)]
@@ -954,19 +1338,10 @@ mod tests {
     use super::*;
 
     #[test]
-    fn phase_labels() {
-        assert_eq!(format_phase(0.0), "0");
-        assert_eq!(format_phase(PI / 24.0), "pi/24");
-        assert_eq!(format_phase(-3.0 * PI / 8.0), "-3pi/8");
-        assert_eq!(format_phase(PI / 2.0), "pi/2");
-        assert_eq!(format_phase(PI), "pi");
-        assert_eq!(format_phase(0.3), "0.3000 rad");
-    }
-
-    #[test]
-    fn load_factor_labels() {
-        assert_eq!(format_load_factor(5.5), "5.50");
-        assert_eq!(format_load_factor(5.55), "5.55");
-        assert_eq!(format_load_factor(5.123), "5.123");
+    fn phases_parse() {
+        assert_eq!(parse_phase("pi/4"), Some(PI / 4.0));
+        assert_eq!(parse_phase("-3pi/8"), Some(-3.0 * PI / 8.0));
+        assert_eq!(parse_phase("0.3"), Some(0.3));
+        assert_eq!(parse_phase("x"), None);
     }
 }

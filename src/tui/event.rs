@@ -3,12 +3,14 @@
 use std::io;
 use std::time::Duration;
 
-use crossterm::event::{self as ct, KeyEvent, KeyEventKind};
+use crossterm::event::{self as ct, KeyEvent, KeyEventKind, MouseEventKind};
 
 /// What woke the loop up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Event {
     Key(KeyEvent),
+    /// The mouse wheel: `-1` a notch up (back in history), `1` down.
+    Scroll(i32),
     Resize(u16, u16),
     /// Nothing arrived before the frame was due.
     Tick,
@@ -23,6 +25,11 @@ pub fn next(timeout: Duration) -> io::Result<Event> {
         // Some terminals (Windows, kitty protocol) also report releases;
         // acting on those would apply every key twice.
         ct::Event::Key(k) if k.kind != KeyEventKind::Release => Event::Key(k),
+        ct::Event::Mouse(m) => match m.kind {
+            MouseEventKind::ScrollUp => Event::Scroll(-1),
+            MouseEventKind::ScrollDown => Event::Scroll(1),
+            _ => Event::Tick,
+        },
         ct::Event::Resize(w, h) => Event::Resize(w, h),
         _ => Event::Tick,
     })

@@ -21,6 +21,26 @@ pub enum Action {
     NextPath,
     RunPause,
     StepOne,
+    Back1,
+    Forward1,
+    BackCycle,
+    ForwardCycle,
+    Oldest,
+    Live,
+    PrevEvent,
+    NextEvent,
+    EventKind,
+    MinNodes,
+    ToggleLog,
+    LogUp,
+    LogDown,
+    LogPageUp,
+    LogPageDown,
+    LogFirst,
+    LogLast,
+    LogGo,
+    Pin,
+    Entry,
     ToCycleEnd,
     ToSteady,
     Reset,
@@ -28,29 +48,54 @@ pub enum Action {
     Slower,
     PauseOnEvents,
     Help,
+    Back,
     Quit,
+    Interrupt,
+    Suspend,
     ToggleView,
     SweepPrevX,
     SweepNextX,
+    SweepPageDown,
+    SweepPageUp,
+    SweepFirst,
+    SweepLast,
     SweepPrevRun,
     SweepNextRun,
+    SweepLogW,
+    SweepSave,
     OpenRun,
     RestartSweep,
 }
 
-/// The views a binding works in.
+/// Which key table applies: a view, or the event log over the stepping
+/// view.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Scope {
-    Both,
+pub enum Mode {
     Stepping,
     Sweep,
+    Log,
+}
+
+/// All the modes, for the help and the tests.
+pub const MODES: [Mode; 3] = [Mode::Stepping, Mode::Log, Mode::Sweep];
+
+/// The modes a binding works in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scope {
+    All,
+    Stepping,
+    Sweep,
+    Log,
 }
 
 impl Scope {
-    pub fn includes(self, view: View) -> bool {
+    pub fn includes(self, mode: Mode) -> bool {
         matches!(
-            (self, view),
-            (Scope::Both, _) | (Scope::Stepping, View::Stepping) | (Scope::Sweep, View::Sweep)
+            (self, mode),
+            (Scope::All, _)
+                | (Scope::Stepping, Mode::Stepping)
+                | (Scope::Sweep, Mode::Sweep)
+                | (Scope::Log, Mode::Log)
         )
     }
 }
@@ -109,56 +154,63 @@ pub const BINDINGS: &[Binding] = &[
         keys: &[key(KeyCode::Left)],
         label: "←",
         action: Action::LoadFactorDown,
-        help: "lambda - 0.05 (restarts from O)",
+        help: "lambda - 0.05 (restarts)",
         scope: Scope::Stepping,
     },
     Binding {
         keys: &[key(KeyCode::Right)],
         label: "→",
         action: Action::LoadFactorUp,
-        help: "lambda + 0.05 (restarts from O)",
+        help: "lambda + 0.05 (restarts)",
         scope: Scope::Stepping,
     },
     Binding {
         keys: &[shifted(KeyCode::Left)],
         label: "Shift-←",
         action: Action::LoadFactorDownBig,
-        help: "lambda - 0.5 (restarts from O)",
+        help: "lambda - 0.5 (restarts)",
         scope: Scope::Stepping,
     },
     Binding {
         keys: &[shifted(KeyCode::Right)],
         label: "Shift-→",
         action: Action::LoadFactorUpBig,
-        help: "lambda + 0.5 (restarts from O)",
+        help: "lambda + 0.5 (restarts)",
         scope: Scope::Stepping,
     },
     Binding {
         keys: &[key(KeyCode::Down)],
         label: "↓",
         action: Action::PhaseDown,
-        help: "phi - pi/24 (restarts from O)",
+        help: "phi - pi/24 (restarts)",
         scope: Scope::Stepping,
     },
     Binding {
         keys: &[key(KeyCode::Up)],
         label: "↑",
         action: Action::PhaseUp,
-        help: "phi + pi/24 (restarts from O)",
+        help: "phi + pi/24 (restarts)",
         scope: Scope::Stepping,
     },
     Binding {
         keys: &[ch('[')],
         label: "[",
         action: Action::PreviousPath,
-        help: "previous initial path (restarts from O)",
+        help: "previous initial path",
         scope: Scope::Stepping,
     },
     Binding {
         keys: &[ch(']')],
         label: "]",
         action: Action::NextPath,
-        help: "next initial path (restarts from O)",
+        help: "next initial path",
+        scope: Scope::Stepping,
+    },
+    Binding {
+        keys: &[ch(':')],
+        label: ":",
+        action: Action::Entry,
+        help: "type lambda = 5.13, phi, path",
         scope: Scope::Stepping,
     },
     Binding {
@@ -169,8 +221,8 @@ pub const BINDINGS: &[Binding] = &[
         scope: Scope::Stepping,
     },
     Binding {
-        keys: &[ch('n'), ch('.')],
-        label: "n .",
+        keys: &[ch('n')],
+        label: "n",
         action: Action::StepOne,
         help: "one increment",
         scope: Scope::Stepping,
@@ -179,7 +231,7 @@ pub const BINDINGS: &[Binding] = &[
         keys: &[ch('c')],
         label: "c",
         action: Action::ToCycleEnd,
-        help: "to the end of the cycle (or transient)",
+        help: "to the end of the cycle",
         scope: Scope::Stepping,
     },
     Binding {
@@ -193,92 +245,295 @@ pub const BINDINGS: &[Binding] = &[
         keys: &[ch('r')],
         label: "r",
         action: Action::Reset,
-        help: "reset and rerun the transient",
+        help: "rerun from the start",
         scope: Scope::Stepping,
     },
     Binding {
         keys: &[ch('+'), ch('=')],
         label: "+ =",
         action: Action::Faster,
-        help: "faster (x2 increments per frame)",
+        help: "faster (x2 incr per frame)",
         scope: Scope::Stepping,
     },
     Binding {
         keys: &[ch('-')],
         label: "-",
         action: Action::Slower,
-        help: "slower (/2 increments per frame)",
+        help: "slower (/2 incr per frame)",
         scope: Scope::Stepping,
+    },
+    Binding {
+        keys: &[ch(','), ch('h')],
+        label: ", h",
+        action: Action::Back1,
+        help: "back one increment (history)",
+        scope: Scope::Stepping,
+    },
+    Binding {
+        keys: &[ch('.'), ch('l')],
+        label: ". l",
+        action: Action::Forward1,
+        help: "forward one increment",
+        scope: Scope::Stepping,
+    },
+    Binding {
+        keys: &[ch('<'), key(KeyCode::PageUp)],
+        label: "< PgUp",
+        action: Action::BackCycle,
+        help: "back one cycle",
+        scope: Scope::Stepping,
+    },
+    Binding {
+        keys: &[ch('>'), key(KeyCode::PageDown)],
+        label: "> PgDn",
+        action: Action::ForwardCycle,
+        help: "forward one cycle",
+        scope: Scope::Stepping,
+    },
+    Binding {
+        keys: &[key(KeyCode::Home)],
+        label: "Home",
+        action: Action::Oldest,
+        help: "oldest increment kept",
+        scope: Scope::Stepping,
+    },
+    Binding {
+        keys: &[key(KeyCode::End)],
+        label: "End",
+        action: Action::Live,
+        help: "live: the newest increment",
+        scope: Scope::Stepping,
+    },
+    Binding {
+        keys: &[ch('{')],
+        label: "{",
+        action: Action::PrevEvent,
+        help: "previous event of the kind",
+        scope: Scope::Stepping,
+    },
+    Binding {
+        keys: &[ch('}')],
+        label: "}",
+        action: Action::NextEvent,
+        help: "next event of the kind",
+        scope: Scope::Stepping,
+    },
+    Binding {
+        keys: &[ch('k')],
+        label: "k",
+        action: Action::EventKind,
+        help: "event kind (jumps, pause, log)",
+        scope: Scope::All,
+    },
+    Binding {
+        keys: &[ch('m')],
+        label: "m",
+        action: Action::MinNodes,
+        help: "advancing stick >= 1, 2, 4..",
+        scope: Scope::All,
     },
     Binding {
         keys: &[ch('e')],
         label: "e",
         action: Action::PauseOnEvents,
-        help: "pause on events on/off",
+        help: "pause on events of the kind",
         scope: Scope::Stepping,
     },
     Binding {
-        keys: &[ch('v'), key(KeyCode::Tab)],
-        label: "v Tab",
-        action: Action::ToggleView,
-        help: "switch stepping view / sweep view",
-        scope: Scope::Both,
+        keys: &[ch('L'), ch('E')],
+        label: "L E",
+        action: Action::ToggleLog,
+        help: "event log on/off",
+        scope: Scope::Stepping,
+    },
+    Binding {
+        keys: &[ch('p')],
+        label: "p",
+        action: Action::Pin,
+        help: "pin run to compare / unpin",
+        scope: Scope::Stepping,
+    },
+    Binding {
+        keys: &[key(KeyCode::Up)],
+        label: "↑",
+        action: Action::LogUp,
+        help: "previous event",
+        scope: Scope::Log,
+    },
+    Binding {
+        keys: &[key(KeyCode::Down), ch('j')],
+        label: "↓ j",
+        action: Action::LogDown,
+        help: "next event",
+        scope: Scope::Log,
+    },
+    Binding {
+        keys: &[key(KeyCode::PageUp)],
+        label: "PgUp",
+        action: Action::LogPageUp,
+        help: "ten events up",
+        scope: Scope::Log,
+    },
+    Binding {
+        keys: &[key(KeyCode::PageDown)],
+        label: "PgDn",
+        action: Action::LogPageDown,
+        help: "ten events down",
+        scope: Scope::Log,
+    },
+    Binding {
+        keys: &[key(KeyCode::Home)],
+        label: "Home",
+        action: Action::LogFirst,
+        help: "first event",
+        scope: Scope::Log,
+    },
+    Binding {
+        keys: &[key(KeyCode::End)],
+        label: "End",
+        action: Action::LogLast,
+        help: "last event",
+        scope: Scope::Log,
+    },
+    Binding {
+        keys: &[key(KeyCode::Enter)],
+        label: "Enter",
+        action: Action::LogGo,
+        help: "show that instant",
+        scope: Scope::Log,
+    },
+    Binding {
+        keys: &[ch('L'), ch('E')],
+        label: "L E",
+        action: Action::ToggleLog,
+        help: "close the event log",
+        scope: Scope::Log,
     },
     Binding {
         keys: &[key(KeyCode::Left)],
         label: "←",
         action: Action::SweepPrevX,
-        help: "cursor to the previous lambda (or phi)",
+        help: "previous lambda (or phi)",
         scope: Scope::Sweep,
     },
     Binding {
         keys: &[key(KeyCode::Right)],
         label: "→",
         action: Action::SweepNextX,
-        help: "cursor to the next lambda (or phi)",
+        help: "next lambda (or phi)",
+        scope: Scope::Sweep,
+    },
+    Binding {
+        keys: &[key(KeyCode::PageDown)],
+        label: "PgDn",
+        action: Action::SweepPageDown,
+        help: "ten columns left",
+        scope: Scope::Sweep,
+    },
+    Binding {
+        keys: &[key(KeyCode::PageUp)],
+        label: "PgUp",
+        action: Action::SweepPageUp,
+        help: "ten columns right",
+        scope: Scope::Sweep,
+    },
+    Binding {
+        keys: &[key(KeyCode::Home)],
+        label: "Home",
+        action: Action::SweepFirst,
+        help: "first column",
+        scope: Scope::Sweep,
+    },
+    Binding {
+        keys: &[key(KeyCode::End)],
+        label: "End",
+        action: Action::SweepLast,
+        help: "last column",
         scope: Scope::Sweep,
     },
     Binding {
         keys: &[key(KeyCode::Down)],
         label: "↓",
         action: Action::SweepPrevRun,
-        help: "cursor to the previous transient at this x",
+        help: "previous transient at this x",
         scope: Scope::Sweep,
     },
     Binding {
         keys: &[key(KeyCode::Up)],
         label: "↑",
         action: Action::SweepNextRun,
-        help: "cursor to the next transient at this x",
+        help: "next transient at this x",
         scope: Scope::Sweep,
     },
     Binding {
         keys: &[key(KeyCode::Enter)],
         label: "Enter",
         action: Action::OpenRun,
-        help: "open the selected run in the stepping view",
+        help: "open the run under the cursor",
+        scope: Scope::Sweep,
+    },
+    Binding {
+        keys: &[ch('w')],
+        label: "w",
+        action: Action::SweepLogW,
+        help: "W axis: log / linear",
+        scope: Scope::Sweep,
+    },
+    Binding {
+        keys: &[ch('S'), ch('s')],
+        label: "s",
+        action: Action::SweepSave,
+        help: "save the map as sweep's CSV",
         scope: Scope::Sweep,
     },
     Binding {
         keys: &[ch('r')],
         label: "r",
         action: Action::RestartSweep,
-        help: "rerun the whole sweep",
+        help: "rerun the sweep (asks first)",
         scope: Scope::Sweep,
+    },
+    Binding {
+        keys: &[ch('v'), key(KeyCode::Tab)],
+        label: "v Tab",
+        action: Action::ToggleView,
+        help: "stepping view / sweep view",
+        scope: Scope::All,
     },
     Binding {
         keys: &[ch('?')],
         label: "?",
         action: Action::Help,
         help: "this help on/off",
-        scope: Scope::Both,
+        scope: Scope::All,
     },
     Binding {
-        keys: &[ch('q'), key(KeyCode::Esc), ctrl('c')],
-        label: "q Esc ^C",
+        keys: &[key(KeyCode::Esc)],
+        label: "Esc",
+        action: Action::Back,
+        help: "close, back, or to live",
+        scope: Scope::All,
+    },
+    Binding {
+        keys: &[ctrl('z')],
+        label: "^Z",
+        action: Action::Suspend,
+        help: "suspend (fg resumes)",
+        scope: Scope::All,
+    },
+    Binding {
+        keys: &[ch('q')],
+        label: "q",
         action: Action::Quit,
-        help: "quit",
-        scope: Scope::Both,
+        help: "quit (asks if a map is lost)",
+        scope: Scope::All,
+    },
+    Binding {
+        keys: &[ctrl('c')],
+        label: "^C",
+        action: Action::Interrupt,
+        help: "quit with status 130",
+        scope: Scope::All,
     },
 ];
 
@@ -298,14 +553,14 @@ impl Key {
     }
 }
 
-/// The bindings of `view`, in table order: what the help lists.
-pub fn bindings_for(view: View) -> impl Iterator<Item = &'static Binding> {
-    BINDINGS.iter().filter(move |b| b.scope.includes(view))
+/// The bindings of `mode`, in table order: what the help lists.
+pub fn bindings_for(mode: Mode) -> impl Iterator<Item = &'static Binding> {
+    BINDINGS.iter().filter(move |b| b.scope.includes(mode))
 }
 
-/// The action bound to a key press in `view`, if any.
-pub fn action_for(event: &KeyEvent, view: View) -> Option<Action> {
-    bindings_for(view)
+/// The action bound to a key press in `mode`, if any.
+pub fn action_for(event: &KeyEvent, mode: Mode) -> Option<Action> {
+    bindings_for(mode)
         .find(|b| b.keys.iter().any(|k| k.matches(event)))
         .map(|b| b.action)
 }
@@ -328,13 +583,13 @@ mod tests {
 
     #[test]
     fn every_key_dispatches_to_its_own_row() {
-        for view in [View::Stepping, View::Sweep] {
-            for b in bindings_for(view) {
+        for mode in MODES {
+            for b in bindings_for(mode) {
                 for k in b.keys {
                     assert_eq!(
-                        action_for(&event_for(k), view),
+                        action_for(&event_for(k), mode),
                         Some(b.action),
-                        "{} in {view:?}",
+                        "{} in {mode:?}",
                         b.label
                     );
                 }
@@ -343,33 +598,44 @@ mod tests {
     }
 
     #[test]
-    fn no_key_is_bound_twice_in_one_view() {
-        for view in [View::Stepping, View::Sweep] {
-            let keys: Vec<Key> = bindings_for(view)
+    fn no_key_is_bound_twice_in_one_mode() {
+        for mode in MODES {
+            let keys: Vec<Key> = bindings_for(mode)
                 .flat_map(|b| b.keys.iter().copied())
                 .collect();
             for (i, a) in keys.iter().enumerate() {
-                assert!(!keys[i + 1..].contains(a), "{a:?} twice in {view:?}");
+                assert!(!keys[i + 1..].contains(a), "{a:?} twice in {mode:?}");
             }
         }
     }
 
     #[test]
-    fn arrows_mean_different_things_per_view() {
+    fn arrows_mean_different_things_per_mode() {
         let right = KeyEvent::new(KeyCode::Right, KeyModifiers::NONE);
         assert_eq!(
-            action_for(&right, View::Stepping),
+            action_for(&right, Mode::Stepping),
             Some(Action::LoadFactorUp)
         );
-        assert_eq!(action_for(&right, View::Sweep), Some(Action::SweepNextX));
-        let tab = KeyEvent::new(KeyCode::Tab, KeyModifiers::NONE);
-        assert_eq!(action_for(&tab, View::Stepping), Some(Action::ToggleView));
-        assert_eq!(action_for(&tab, View::Sweep), Some(Action::ToggleView));
+        assert_eq!(action_for(&right, Mode::Sweep), Some(Action::SweepNextX));
+        let up = KeyEvent::new(KeyCode::Up, KeyModifiers::NONE);
+        assert_eq!(action_for(&up, Mode::Log), Some(Action::LogUp));
+        let esc = KeyEvent::new(KeyCode::Esc, KeyModifiers::NONE);
+        assert_eq!(action_for(&esc, Mode::Sweep), Some(Action::Back));
+        let c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
+        assert_eq!(action_for(&c, Mode::Stepping), Some(Action::Interrupt));
+    }
+
+    #[test]
+    fn help_texts_fit_two_columns_at_80() {
+        for b in BINDINGS {
+            assert!(b.help.chars().count() <= 30, "{}", b.help);
+            assert!(b.label.chars().count() <= 7, "{}", b.label);
+        }
     }
 
     #[test]
     fn shift_distinguishes_arrows_but_not_characters() {
-        let v = View::Stepping;
+        let v = Mode::Stepping;
         let e = KeyEvent::new(KeyCode::Right, KeyModifiers::SHIFT);
         assert_eq!(action_for(&e, v), Some(Action::LoadFactorUpBig));
         let e = KeyEvent::new(KeyCode::Char('?'), KeyModifiers::SHIFT);

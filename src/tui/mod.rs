@@ -1,20 +1,26 @@
 //! The terminal explorer: live stepping of the contact, and a sweep view
 //! whose map of `W` fills in as a background sweep runs.
 //!
-//! [`app`] is the state machine (no I/O), [`sweep`] the sweep view's state
-//! and its background threads, [`keys`] the one key table, [`event`] the
-//! loop's inputs, [`terminal`] setup and restore, and [`ui`] the panels.
-//! The loop here steps within a per-frame budget and draws.
+//! [`app`] is the state machine (no I/O); [`worker`] the thread that owns
+//! the stepper; [`history`] the record of the run within its memory
+//! budget; [`log`] the event log and its filters; [`sweep`] the sweep
+//! view's state and its background threads; [`keys`] the one key table;
+//! [`event`] the loop's inputs; [`terminal`] setup, restore and signals;
+//! [`format`] how numbers are written; and [`ui`] the panels, one widget
+//! each. The loop here takes what the worker sent, draws, and answers keys.
 
 pub mod app;
 pub mod event;
+pub mod format;
+pub mod history;
 pub mod keys;
+pub mod log;
 pub mod sweep;
 pub mod terminal;
 pub mod ui;
+pub mod worker;
 
 use std::io;
-use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use crate::analysis::case::{Case, CaseParams};
@@ -24,8 +30,8 @@ use event::Event;
 
 /// Time between frames while stepping (60 fps).
 pub const FRAME: Duration = Duration::from_millis(16);
-/// Stepping allowed per frame: half a frame, leaving the rest to drawing
-/// and input so a frame never runs long.
+/// Time a frame may spend taking the worker's records: half a frame,
+/// leaving the rest to drawing and input so a frame never runs long.
 pub const STEP_BUDGET: Duration = Duration::from_millis(8);
 /// Wait between redraws when nothing is stepping.
 const IDLE_WAIT: Duration = Duration::from_millis(250);
@@ -118,9 +124,15 @@ impl FrameStats {
 /// `preset`'s sweep over the case's model, or the built-in
 /// [`app::DEFAULT_SWEEP_PRESET`] without one.
 pub fn run(case: Case, preset: Option<Preset>) -> Result<(), TuiError> {
+    run_with(case, preset, Config::from_env()).map(|_| ())
+}
+
+/// [`run`] with an explicit configuration; returns the exit status: 0
+/// after `q`, 130 after Ctrl-C, 128 + the signal after SIGTERM, SIGHUP or
+/// SIGQUIT (the terminal is restored first in every case).
+pub fn run_with(case: Case, preset: Option<Preset>, config: Config) -> Result<u8, TuiError> {
     terminal::check_tty()?;
-    let interrupted = terminal::interrupt_flag();
-    let config = Config::from_env();
+    let signals = terminal::signals();
     let mut app = match preset {
         Some(p) => {
             let source = sweep::SweepSource::from_preset(&p, &case).map_err(|e| e.to_string());
@@ -129,7 +141,7 @@ pub fn run(case: Case, preset: Option<Preset>) -> Result<(), TuiError> {
         None => App::new(case, config),
     };
     let mut term = terminal::setup()?;
-    let result = event_loop(&mut term, &mut app, &interrupted);
+    let result = event_loop(&mut term, &mut app, &signals);
     terminal::restore();
     result
 }
@@ -137,21 +149,15 @@ pub fn run(case: Case, preset: Option<Preset>) -> Result<(), TuiError> {
 fn event_loop(
     term: &mut terminal::Term,
     app: &mut App,
-    interrupted: &std::sync::atomic::AtomicBool,
-) -> Result<(), TuiError> {
+    signals: &std::sync::atomic::AtomicUsize,
+) -> Result<u8, TuiError> {
     let mut stats = FrameStats::default();
-    let mut last_tick: Option<Instant> = None;
     loop {
         let start = Instant::now();
         let busy = app.is_busy();
-        let before = app.stepper().increments();
-        // Keys redraw at once, but stepping keeps to the frame rate, so
-        // holding a key down does not speed the run up.
-        if last_tick.is_none_or(|t| start.duration_since(t) >= FRAME) {
-            app.tick(STEP_BUDGET);
-            last_tick = Some(start);
-        }
-        let stepped = app.stepper().increments().saturating_sub(before);
+        let before = app.increments();
+        app.tick(STEP_BUDGET);
+        let stepped = app.increments().saturating_sub(before);
         let drawing = Instant::now();
         term.draw(|frame| ui::draw(frame, app))?;
         stats.record(drawing - start, drawing.elapsed(), stepped, busy);
@@ -161,19 +167,38 @@ fn event_loop(
         let wait = if app.is_busy() { FRAME } else { IDLE_WAIT };
         let deadline = start + wait;
         loop {
-            if interrupted.load(Ordering::SeqCst) {
-                app.request_quit();
+            match terminal::take_signal(signals) {
+                terminal::Signal::None => {}
+                terminal::Signal::Interrupt => app.request_quit_with(130),
+                terminal::Signal::Exit(code) => {
+                    app.request_quit_with(code);
+                }
+                terminal::Signal::Suspend => {
+                    terminal::suspend(term)?;
+                    break;
+                }
+            }
+            if app.take_suspend() {
+                terminal::suspend(term)?;
+                break;
             }
             if app.should_quit() {
                 if let Some(path) = std::env::var_os("SHAKEDOWN_FRAME_STATS") {
-                    stats.write(&path, app.stepper().increments());
+                    stats.write(&path, app.increments());
                 }
-                return Ok(());
+                return Ok(app.exit_code());
             }
-            let left = deadline.saturating_duration_since(Instant::now());
+            // Short polls, so a signal is answered within a frame.
+            let left = deadline
+                .saturating_duration_since(Instant::now())
+                .min(FRAME);
             match event::next(left)? {
                 Event::Key(key) => {
                     app.handle_key(key);
+                    break;
+                }
+                Event::Scroll(delta) => {
+                    app.scroll(delta);
                     break;
                 }
                 Event::Resize(..) => {

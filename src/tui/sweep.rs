@@ -54,7 +54,6 @@ pub enum LimitState {
 /// What the background threads send.
 enum Message {
     Row(Box<Row>),
-    Limit(Result<Limit, String>),
     Finished,
 }
 
@@ -87,6 +86,9 @@ pub struct Sweep {
     cursor: (usize, usize),
     limit: LimitState,
     worker: Option<Worker>,
+    /// The one `lambda_2` programme in flight: it does not depend on the
+    /// runs, so a rerun of the sweep keeps it rather than starting another.
+    limit_rx: Option<Receiver<Result<Limit, String>>>,
     started: bool,
     /// The runs' thread is done (the limit's may not be).
     runs_finished: bool,
@@ -122,6 +124,7 @@ impl Sweep {
             cursor: (0, 0),
             limit,
             worker: None,
+            limit_rx: None,
             started: false,
             runs_finished: false,
             source,
@@ -149,10 +152,11 @@ impl Sweep {
         let cancel = Arc::new(AtomicBool::new(false));
         let (tx, rx) = mpsc::channel();
         if let Some(phase) = Self::limit_phase(&self.source) {
-            if !matches!(self.limit, LimitState::Known(_)) {
+            if !matches!(self.limit, LimitState::Known(_)) && self.limit_rx.is_none() {
                 self.limit = LimitState::Computing;
                 let spec = self.source.spec.clone();
-                let tx = tx.clone();
+                let (tx, rx) = mpsc::channel();
+                self.limit_rx = Some(rx);
                 std::thread::spawn(move || {
                     let limit = shakedown_limit(
                         &spec.material(),
@@ -163,7 +167,7 @@ impl Sweep {
                         DEFAULT_SAMPLES,
                     )
                     .map_err(|e| e.to_string());
-                    let _ = tx.send(Message::Limit(limit));
+                    let _ = tx.send(limit);
                 });
             }
         }
@@ -191,6 +195,22 @@ impl Sweep {
     /// Take what the background threads have sent; true if anything came.
     pub fn poll(&mut self) -> bool {
         let mut changed = false;
+        if let Some(rx) = &self.limit_rx {
+            match rx.try_recv() {
+                Ok(limit) => {
+                    self.limit_rx = None;
+                    self.set_limit(limit);
+                    changed = true;
+                }
+                Err(TryRecvError::Disconnected) => {
+                    self.limit_rx = None;
+                    if matches!(self.limit, LimitState::Computing) {
+                        self.limit = LimitState::Failed("the limit thread stopped".into());
+                    }
+                }
+                Err(TryRecvError::Empty) => {}
+            }
+        }
         loop {
             let Some(worker) = &self.worker else {
                 return changed;
@@ -198,10 +218,6 @@ impl Sweep {
             match worker.rx.try_recv() {
                 Ok(Message::Row(row)) => {
                     self.insert(*row);
-                    changed = true;
-                }
-                Ok(Message::Limit(limit)) => {
-                    self.set_limit(limit);
                     changed = true;
                 }
                 Ok(Message::Finished) => {
@@ -213,9 +229,6 @@ impl Sweep {
                 Err(TryRecvError::Disconnected) => {
                     self.runs_finished = true;
                     self.worker = None;
-                    if matches!(self.limit, LimitState::Computing) {
-                        self.limit = LimitState::Failed("the limit thread stopped".into());
-                    }
                     return true;
                 }
                 Err(TryRecvError::Empty) => return changed,

@@ -1,13 +1,16 @@
 //! Taking over the terminal and giving it back, whatever happens: normal
-//! quit, Ctrl-C (a key in raw mode, a signal otherwise) or a panic.
+//! quit, Ctrl-C, SIGTERM, SIGHUP, SIGQUIT, a panic; and lending it back to
+//! the shell on SIGTSTP (or Ctrl-Z) until `fg`.
 
 use std::io::{self, IsTerminal, Stdout};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Once};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Once, OnceLock};
 
+use crossterm::event::{DisableMouseCapture, EnableMouseCapture};
 use crossterm::{cursor, execute, terminal};
 use ratatui::backend::CrosstermBackend;
 use ratatui::Terminal;
+use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM, SIGTSTP};
 
 use super::TuiError;
 
@@ -23,18 +26,14 @@ pub fn check_tty() -> Result<(), TuiError> {
     }
 }
 
-/// Raw mode, alternate screen, hidden cursor; the panic hook is installed
-/// first so that a panic anywhere after this point restores the terminal.
+/// Raw mode, alternate screen, mouse capture, hidden cursor; the panic
+/// hook is installed first so that a panic anywhere after this point
+/// restores the terminal.
 pub fn setup() -> Result<Term, TuiError> {
     check_tty()?;
     install_panic_hook();
-    terminal::enable_raw_mode()?;
-    let mut stdout = io::stdout();
-    if let Err(e) = execute!(stdout, terminal::EnterAlternateScreen, cursor::Hide) {
-        restore();
-        return Err(e.into());
-    }
-    match Terminal::new(CrosstermBackend::new(stdout)) {
+    enter()?;
+    match Terminal::new(CrosstermBackend::new(io::stdout())) {
         Ok(t) => Ok(t),
         Err(e) => {
             restore();
@@ -43,11 +42,30 @@ pub fn setup() -> Result<Term, TuiError> {
     }
 }
 
+fn enter() -> Result<(), TuiError> {
+    terminal::enable_raw_mode()?;
+    if let Err(e) = execute!(
+        io::stdout(),
+        terminal::EnterAlternateScreen,
+        EnableMouseCapture,
+        cursor::Hide
+    ) {
+        restore();
+        return Err(e.into());
+    }
+    Ok(())
+}
+
 /// Undo [`setup`]. Safe to call more than once and from the panic hook;
 /// errors are ignored because there is nothing left to report them to.
 pub fn restore() {
+    let _ = execute!(
+        io::stdout(),
+        DisableMouseCapture,
+        terminal::LeaveAlternateScreen,
+        cursor::Show
+    );
     let _ = terminal::disable_raw_mode();
-    let _ = execute!(io::stdout(), terminal::LeaveAlternateScreen, cursor::Show);
 }
 
 fn install_panic_hook() {
@@ -62,18 +80,51 @@ fn install_panic_hook() {
     });
 }
 
-/// A flag raised by SIGINT. In raw mode Ctrl-C is a key, but a signal can
-/// still arrive (`kill -INT`, or before raw mode is on); without a handler
-/// it would kill the process with the terminal left raw.
-pub fn interrupt_flag() -> Arc<AtomicBool> {
-    static FLAG: std::sync::OnceLock<Arc<AtomicBool>> = std::sync::OnceLock::new();
+/// What a signal asks of the loop.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Signal {
+    None,
+    /// SIGINT: quit with status 130.
+    Interrupt,
+    /// SIGTERM, SIGHUP, SIGQUIT: restore and exit with this status.
+    Exit(u8),
+    /// SIGTSTP: give the terminal back and stop until `fg`.
+    Suspend,
+}
+
+/// The last signal received (0 for none). The handlers only store the
+/// number; the loop acts on it within a frame, on its own thread, so the
+/// terminal is restored by the code that owns it.
+pub fn signals() -> Arc<AtomicUsize> {
+    static FLAG: OnceLock<Arc<AtomicUsize>> = OnceLock::new();
     FLAG.get_or_init(|| {
-        let flag = Arc::new(AtomicBool::new(false));
-        let setter = Arc::clone(&flag);
-        // Failure only means another handler is already installed; the key
-        // binding still quits.
-        let _ = ctrlc::set_handler(move || setter.store(true, Ordering::SeqCst));
+        let flag = Arc::new(AtomicUsize::new(0));
+        for sig in [SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGTSTP] {
+            // Failure leaves that signal's default action; the keys work.
+            let _ = signal_hook::flag::register_usize(sig, Arc::clone(&flag), sig as usize);
+        }
         flag
     })
     .clone()
+}
+
+/// Take the pending signal, if any.
+pub fn take_signal(flag: &AtomicUsize) -> Signal {
+    match flag.swap(0, Ordering::SeqCst) as i32 {
+        0 => Signal::None,
+        SIGINT => Signal::Interrupt,
+        SIGTSTP => Signal::Suspend,
+        sig => Signal::Exit((128 + sig).clamp(0, 255) as u8),
+    }
+}
+
+/// Restore the terminal, stop the process as SIGTSTP would, and on `fg`
+/// take the terminal again and redraw everything.
+pub fn suspend(term: &mut Term) -> Result<(), TuiError> {
+    restore();
+    // Stops here until SIGCONT.
+    let _ = signal_hook::low_level::emulate_default_handler(SIGTSTP);
+    enter()?;
+    term.clear()?;
+    Ok(())
 }

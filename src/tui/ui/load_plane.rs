@@ -7,7 +7,6 @@ use ratatui::layout::Rect;
 use ratatui::style::{Color, Modifier};
 use ratatui::text::{Line as TextLine, Span};
 use ratatui::widgets::canvas::{Canvas, Line};
-use ratatui::Frame;
 
 use super::Theme;
 use crate::model::path::Initial;
@@ -17,29 +16,46 @@ const TWO_PI: f64 = 2.0 * PI;
 /// Samples of the cycle's ellipse: smooth at any panel size.
 const CYCLE_SAMPLES: usize = 96;
 
-pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let stepper = app.stepper();
-    let cycle = *stepper.cycle();
+/// The load plane widget.
+pub struct LoadPlane<'a> {
+    pub app: &'a App,
+    pub theme: &'a Theme,
+}
+
+impl ratatui::widgets::Widget for LoadPlane<'_> {
+    fn render(self, area: Rect, buf: &mut ratatui::buffer::Buffer) {
+        render(buf, area, self.app, self.theme);
+    }
+}
+
+fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Theme) {
+    let cycle = app.case().cycle;
     let cycle_points: Vec<(f64, f64)> = (0..=CYCLE_SAMPLES)
         .map(|i| {
             let p = cycle.at(TWO_PI * i as f64 / CYCLE_SAMPLES as f64);
             (p.x(), p.y())
         })
         .collect();
-    let segments: Vec<(f64, f64, f64, f64)> = stepper
+    let segments: Vec<(f64, f64, f64, f64)> = app
         .transient()
         .iter()
         .map(|s| (s.from.x(), s.from.y(), s.to.x(), s.to.y()))
         .collect();
-    let load = stepper.contact().load();
+    let (load_x, load_y) = app.shown().map_or((0.0, 0.0), |r| r.load);
+    // Where gross slip (or separation) ended the run, when it did.
+    let terminal = match app.status() {
+        crate::stepping::Status::Ended(s) => s.terminal_load.map(|p| (p.x(), p.y())),
+        _ => None,
+    };
     let selected = match app.case().initial {
         Initial::Via { a, b } => Some((a, b)),
         _ => None,
     };
 
-    let block = theme
-        .panel(" Load plane ")
-        .title_bottom(TextLine::from(" x = χP/f, y = T/f ").style(theme.label()));
+    let block = theme.panel(" Load plane ").title_bottom(
+        TextLine::from(theme.sym(" x = χP/f, y = T/f ", " x = chi P/f, y = T/f "))
+            .style(theme.label()),
+    );
     let inner = block.inner(area);
     let (x_bounds, y_bounds) = bounds(
         inner,
@@ -47,7 +63,8 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             .iter()
             .copied()
             .chain(segments.iter().flat_map(|s| [(s.0, s.1), (s.2, s.3)]))
-            .chain(std::iter::once((load.x(), load.y()))),
+            .chain(std::iter::once((load_x, load_y)))
+            .chain(terminal),
     );
 
     let axis = theme.color(Color::DarkGray);
@@ -59,10 +76,12 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let cross_style = theme.dim();
     let selected_style = theme.fg(Color::Yellow).add_modifier(Modifier::BOLD);
     let label_style = theme.label();
+    let gross_style = theme.error();
     // On a small panel the label would hide most of the line it names.
     let roomy = inner.width >= 40;
 
     let canvas = Canvas::default()
+        .marker(theme.line_marker())
         .block(block)
         .x_bounds(x_bounds)
         .y_bounds(y_bounds)
@@ -88,7 +107,11 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             // Text goes on top of every layer, in the order printed.
             ctx.print(x_bounds[1], 0.0, Span::styled("x", label_style));
             ctx.print(0.0, y_bounds[1], Span::styled("y", label_style));
-            ctx.print(TWO_PI, 0.0, Span::styled("2π", label_style));
+            ctx.print(
+                TWO_PI,
+                0.0,
+                Span::styled(theme.sym("2π", "2pi"), label_style),
+            );
             if roomy {
                 ctx.print(x_bounds[0], TWO_PI, Span::styled("gross slip", label_style));
             }
@@ -101,7 +124,7 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
                             cross_style
                         };
                         let (x, y) = (a as f64 * PI / 4.0, b as f64 * PI / 4.0);
-                        ctx.print(x, y, Span::styled("×", style));
+                        ctx.print(x, y, Span::styled(theme.sym("×", "x"), style));
                     }
                 }
             }
@@ -111,9 +134,16 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
                 Span::styled("A", label_style),
             );
             ctx.print(0.0, 0.0, Span::styled("O", label_style));
-            ctx.print(load.x(), load.y(), Span::styled("●", point_style));
+            if let Some((x, y)) = terminal {
+                ctx.print(x, y, Span::styled("G", gross_style));
+            }
+            ctx.print(
+                load_x,
+                load_y,
+                Span::styled(theme.sym("●", "@"), point_style),
+            );
         });
-    frame.render_widget(canvas, area);
+    ratatui::widgets::Widget::render(canvas, area, buf);
 }
 
 /// Bounds that hold the diamond, the gross-slip lines and every point, with

@@ -2,6 +2,7 @@
 //! panels go for the terminal's size and holds what they share.
 
 mod dissipation;
+mod event_log;
 mod help;
 mod load_plane;
 mod slip;
@@ -10,8 +11,10 @@ mod status;
 mod sweep_view;
 mod tractions;
 
+use ratatui::buffer::Buffer;
 use ratatui::layout::{Alignment, Constraint, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
+use ratatui::symbols::{border, Marker};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, BorderType, Paragraph, Wrap};
 use ratatui::Frame;
@@ -25,27 +28,87 @@ pub const MIN_HEIGHT: u16 = 24;
 /// Draw the whole screen.
 pub fn draw(frame: &mut Frame, app: &App) {
     let area = frame.area();
-    let theme = Theme::new(app.config().color);
+    let config = app.config();
+    let theme = Theme::new(config.color).with_ascii(config.ascii);
+    draw_screen(frame, area, app, &theme);
+    if config.ascii {
+        asciify(frame.buffer_mut());
+    }
+}
+
+fn draw_screen(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
-        too_small(frame, area, &theme);
+        too_small(frame, area, theme);
         return;
     }
     if app.view() == View::Sweep {
-        sweep_view::render(frame, area, app, &theme);
-        if app.help_visible() {
-            help::render(frame, area, &theme, View::Sweep);
+        sweep_view::render(frame, area, app, theme);
+    } else {
+        let areas = Areas::new(area);
+        let (app, theme) = (app, theme);
+        frame.render_widget(load_plane::LoadPlane { app, theme }, areas.load_plane);
+        frame.render_widget(slip_map::SlipMap { app, theme }, areas.slip_map);
+        frame.render_widget(tractions::Tractions { app, theme }, areas.tractions);
+        frame.render_widget(slip::Slip { app, theme }, areas.slip);
+        frame.render_widget(dissipation::Dissipation { app, theme }, areas.dissipation);
+        frame.render_widget(status::StatusLines { app, theme }, areas.status);
+        if app.log_visible() {
+            let [body, _] =
+                Layout::vertical([Constraint::Fill(1), Constraint::Length(3)]).areas(area);
+            frame.render_widget(event_log::EventLog { app, theme }, body);
         }
-        return;
     }
-    let areas = Areas::new(area);
-    load_plane::render(frame, areas.load_plane, app, &theme);
-    slip_map::render(frame, areas.slip_map, app, &theme);
-    tractions::render(frame, areas.tractions, app, &theme);
-    slip::render(frame, areas.slip, app, &theme);
-    dissipation::render(frame, areas.dissipation, app, &theme);
-    status::render(frame, areas.status, app, &theme);
     if app.help_visible() {
-        help::render(frame, area, &theme, View::Stepping);
+        frame.render_widget(
+            help::Help {
+                mode: app.mode(),
+                theme,
+            },
+            area,
+        );
+    }
+}
+
+/// Replace what is not ASCII, as a last pass for terminals that have no
+/// more (`--ascii`): Braille dots become `.`, lines `-`, `|` and `+`,
+/// Greek letters their Latin initial.
+pub fn asciify(buf: &mut Buffer) {
+    for cell in buf.content.iter_mut() {
+        let sym = cell.symbol();
+        if sym.is_ascii() {
+            continue;
+        }
+        let c = sym.chars().next().unwrap_or(' ');
+        let r = match c {
+            '\u{2800}' => " ",
+            '\u{2801}'..='\u{28FF}' => ".",
+            '─' | '━' | '┄' | '╌' | '–' | '—' => "-",
+            '│' | '┃' | '┆' | '╎' => "|",
+            '╭' | '╮' | '╰' | '╯' | '┌' | '┐' | '└' | '┘' | '┼' | '├' | '┤' | '┬' => {
+                "+"
+            }
+            '┴' | '▲' => "^",
+            '·' | '•' => ".",
+            '×' | '✚' => "x",
+            '●' | '◆' => "@",
+            'π' => "p",
+            'θ' => "t",
+            'λ' => "l",
+            'φ' => "f",
+            'χ' => "c",
+            'ḡ' => "g",
+            '±' => "+",
+            '«' | '»' => ">",
+            '▶' => ">",
+            '‖' => "|",
+            '↑' => "^",
+            '↓' => "v",
+            '←' => "<",
+            '→' => ">",
+            '…' => ".",
+            _ => "?",
+        };
+        cell.set_symbol(r);
     }
 }
 
@@ -121,11 +184,42 @@ fn too_small(frame: &mut Frame, area: Rect, theme: &Theme) {
 #[derive(Debug, Clone, Copy)]
 pub struct Theme {
     color: bool,
+    ascii: bool,
 }
 
 impl Theme {
     pub fn new(color: bool) -> Self {
-        Self { color }
+        Self {
+            color,
+            ascii: false,
+        }
+    }
+
+    /// ASCII-only drawing (`--ascii`).
+    pub fn with_ascii(self, ascii: bool) -> Self {
+        Self { ascii, ..self }
+    }
+
+    pub fn ascii(&self) -> bool {
+        self.ascii
+    }
+
+    /// `fancy`, or `plain` when drawing ASCII only.
+    pub fn sym(&self, fancy: &'static str, plain: &'static str) -> &'static str {
+        if self.ascii {
+            plain
+        } else {
+            fancy
+        }
+    }
+
+    /// Braille for curves, or plain dots when drawing ASCII only.
+    pub fn line_marker(&self) -> Marker {
+        if self.ascii {
+            Marker::Custom('.')
+        } else {
+            Marker::Braille
+        }
     }
 
     /// `c`, or the terminal's default when colour is off.
@@ -185,11 +279,33 @@ impl Theme {
 
     /// A bordered panel with its title.
     pub fn panel<'a>(&self, title: impl Into<Line<'a>>) -> Block<'a> {
-        Block::bordered()
-            .border_type(BorderType::Rounded)
+        let block = Block::bordered();
+        let block = if self.ascii {
+            block.border_set(ASCII_BORDER)
+        } else {
+            block.border_type(BorderType::Rounded)
+        };
+        block
             .border_style(self.dim())
             .title(title.into().style(self.title()))
     }
+}
+
+/// Borders in ASCII.
+const ASCII_BORDER: border::Set = border::Set {
+    top_left: "+",
+    top_right: "+",
+    bottom_left: "+",
+    bottom_right: "+",
+    vertical_left: "|",
+    vertical_right: "|",
+    horizontal_top: "-",
+    horizontal_bottom: "-",
+};
+
+/// A one-glyph marker.
+pub fn glyph(s: &str) -> Marker {
+    Marker::Custom(s.chars().next().unwrap_or('?'))
 }
 
 /// A round number at or above `v` (1, 2 or 5 times a power of ten), so
@@ -231,9 +347,13 @@ pub fn tick(v: f64) -> String {
 /// The `theta` axis from -pi to pi shared by the panels plotted against theta.
 pub fn theta_axis<'a>(theme: &Theme) -> ratatui::widgets::Axis<'a> {
     ratatui::widgets::Axis::default()
-        .title(Span::styled("θ", theme.label()))
+        .title(Span::styled(theme.sym("θ", "th"), theme.label()))
         .bounds([-std::f64::consts::PI, std::f64::consts::PI])
-        .labels(theta_labels())
+        .labels(if theme.ascii() {
+            vec![Line::from("-pi"), Line::from("0"), Line::from("pi")]
+        } else {
+            theta_labels()
+        })
         .style(theme.dim())
 }
 

@@ -1,61 +1,133 @@
-//! The locked-in slip `g(theta)`: the memory of the loading history. Its
-//! mean is the rigid rotation, given as a number; the curve is drawn about
-//! that mean, because the rotation grows without bound when the disc
-//! ratchets and would flatten the shape that carries the memory (the
-//! tractions see `g` only through operators that ignore its mean).
+//! The locked-in slip `g(theta)`: the memory of the loading history, at
+//! the instant on screen. Its mean is the rigid rotation, given as a
+//! number; the curve is drawn about that mean, because the rotation grows
+//! without bound when the disc ratchets and would flatten the shape that
+//! carries the memory.
+//!
+//! At an advancing stick the nodes that stuck are marked, and `g` before
+//! the increment is drawn too, so what they locked in shows as the gap
+//! between the two curves there. A pinned run's `g` is drawn dimmed. The
+//! scale is the largest `g` seen in this run, so it does not jump.
 
+use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::style::Color;
-use ratatui::symbols::Marker;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Axis, Chart, Dataset, GraphType};
-use ratatui::Frame;
+use ratatui::widgets::{Axis, Chart, Dataset, GraphType, Widget};
 
-use super::{nice_ceiling, theta_axis, theta_order, tick, Theme};
+use super::slip_map::STUCK_GLYPH;
+use super::{glyph, nice_ceiling, theta_axis, theta_order, tick, Theme};
 use crate::tui::app::{format_sci, node_theta, App};
 
-pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let contact = app.stepper().contact();
-    let n = contact.nodes();
-    let slip = contact.slip();
-    let rotation = contact.rotation();
-    let points: Vec<(f64, f64)> = theta_order(n)
-        .map(|j| (node_theta(j, n), slip[j] - rotation))
-        .collect();
-    let (lo, hi) = points
-        .iter()
-        .fold((0.0f64, 0.0f64), |(lo, hi), &(_, g)| (lo.min(g), hi.max(g)));
-    // Symmetric about zero unless the slip is all one sign; a floor keeps
-    // an untouched interface from blowing round-off up to full height.
-    let scale = nice_ceiling(lo.abs().max(hi.abs()).max(1e-4) * 1.05);
-    let bottom = if lo >= 0.0 { 0.0 } else { -scale };
-    let top = if hi <= 0.0 && lo < 0.0 { 0.0 } else { scale };
+/// The locked-in slip widget.
+pub struct Slip<'a> {
+    pub app: &'a App,
+    pub theme: &'a Theme,
+}
 
-    let datasets = vec![Dataset::default()
-        .data(&points)
-        .marker(Marker::Braille)
-        .graph_type(GraphType::Line)
-        .style(theme.fg(Color::LightYellow))];
-    let block = theme
-        .panel(" Locked-in slip g(θ) - ḡ ")
-        .title_bottom(Line::from(vec![
-            Span::styled(" rotation ḡ = ", theme.label()),
-            Span::styled(format!("{} ", format_sci(rotation)), theme.value()),
-        ]));
-    let chart = Chart::new(datasets)
-        .block(block)
-        .legend_position(None)
-        .x_axis(theta_axis(theme))
-        .y_axis(
-            Axis::default()
-                .title(Span::styled("g-ḡ", theme.label()))
-                .bounds([bottom, top])
-                .labels(if bottom < 0.0 && top > 0.0 {
-                    vec![tick(bottom), "0".into(), tick(top)]
-                } else {
-                    vec![tick(bottom), tick(top)]
-                })
-                .style(theme.dim()),
+fn curve(values: &[f32]) -> Vec<(f64, f64)> {
+    let n = values.len();
+    theta_order(n)
+        .map(|j| (node_theta(j, n), f64::from(values[j])))
+        .collect()
+}
+
+impl Widget for Slip<'_> {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        let (app, theme) = (self.app, self.theme);
+        let title = theme.sym(" Locked-in slip g(θ) - ḡ ", " Locked-in slip g - mean g ");
+        let Some((record, detail)) = app.shown_detail() else {
+            theme.panel(title).render(area, buf);
+            return;
+        };
+        let n = detail.slip.len();
+        let now = curve(&detail.slip);
+        let before = detail.slip_before.as_deref().map(curve).unwrap_or_default();
+        let stuck: Vec<(f64, f64)> = record
+            .newly_stuck
+            .iter()
+            .filter(|&&j| j < n)
+            .map(|&j| (node_theta(j, n), f64::from(detail.slip[j])))
+            .collect();
+        let pinned = app
+            .pinned()
+            .filter(|p| p.slip.len() == n)
+            .map(|p| curve(&p.slip))
+            .unwrap_or_default();
+        let peak = pinned
+            .iter()
+            .map(|&(_, g)| g.abs())
+            .fold(app.slip_scale(), f64::max);
+        // A floor keeps an untouched interface from blowing round-off up.
+        let scale = nice_ceiling(peak.max(1e-4) * 1.05);
+        let line = theme.line_marker();
+        let mut datasets = Vec::new();
+        if !pinned.is_empty() {
+            datasets.push(
+                Dataset::default()
+                    .data(&pinned)
+                    .marker(line)
+                    .graph_type(GraphType::Line)
+                    .style(theme.dim()),
+            );
+        }
+        if !before.is_empty() {
+            datasets.push(
+                Dataset::default()
+                    .data(&before)
+                    .marker(line)
+                    .graph_type(GraphType::Line)
+                    .style(theme.fg(Color::Gray)),
+            );
+        }
+        datasets.push(
+            Dataset::default()
+                .data(&now)
+                .marker(line)
+                .graph_type(GraphType::Line)
+                .style(theme.fg(Color::LightYellow)),
         );
-    frame.render_widget(chart, area);
+        datasets.push(
+            Dataset::default()
+                .data(&stuck)
+                .marker(glyph(STUCK_GLYPH))
+                .style(theme.newly_stuck()),
+        );
+        let bottom = if stuck.is_empty() {
+            Line::from(vec![
+                Span::styled(theme.sym(" rotation ḡ = ", " rotation = "), theme.label()),
+                Span::styled(format!("{} ", format_sci(record.rotation)), theme.value()),
+            ])
+        } else {
+            // The largest change a stuck node locked in.
+            let change = record
+                .newly_stuck
+                .iter()
+                .filter_map(|&j| {
+                    let b = detail.slip_before.as_ref()?.get(j)?;
+                    Some(f64::from(detail.slip[j] - b).abs())
+                })
+                .fold(0.0, f64::max);
+            Line::from(vec![
+                Span::styled(
+                    format!(" {STUCK_GLYPH} locked in, dg up to "),
+                    theme.newly_stuck(),
+                ),
+                Span::styled(format!("{} ", format_sci(change)), theme.value()),
+                Span::styled("(grey: before) ", theme.label()),
+            ])
+        };
+        let chart = Chart::new(datasets)
+            .block(theme.panel(title).title_bottom(bottom))
+            .legend_position(None)
+            .x_axis(theta_axis(theme))
+            .y_axis(
+                Axis::default()
+                    .title(Span::styled("g", theme.label()))
+                    .bounds([-scale, scale])
+                    .labels(vec![tick(-scale), "0".into(), tick(scale)])
+                    .style(theme.dim()),
+            );
+        chart.render(area, buf);
+    }
 }

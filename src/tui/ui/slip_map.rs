@@ -9,9 +9,10 @@ use std::f64::consts::PI;
 
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
+use ratatui::style::Modifier;
 use ratatui::style::Style;
 use ratatui::text::{Line, Span};
-use ratatui::Frame;
+use ratatui::widgets::Widget;
 
 use super::Theme;
 use crate::tui::app::{node_theta, App, BACKWARD, DIRECTION_MASK, FORWARD, NEWLY_STUCK};
@@ -21,9 +22,20 @@ pub const FORWARD_GLYPH: &str = ">";
 pub const BACKWARD_GLYPH: &str = "<";
 pub const STICK_GLYPH: &str = "·";
 pub const STUCK_GLYPH: &str = "*";
-const BOUNDARY_GLYPH: &str = "┆";
+/// The slip map widget.
+pub struct SlipMap<'a> {
+    pub app: &'a App,
+    pub theme: &'a Theme,
+}
 
-pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
+impl Widget for SlipMap<'_> {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        render(buf, area, self.app, self.theme);
+    }
+}
+
+fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
+    let boundary_glyph = theme.sym("┆", ":");
     let steps = app.case().disc.steps_per_cycle();
     // Words when there is room, the bare glyphs when there is not.
     let wide = area.width >= 72;
@@ -40,10 +52,13 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         word(" stick ", " stick "),
         Span::styled(STUCK_GLYPH, theme.stuck_mark()),
         word(" stuck again ", " stuck "),
-        Span::styled(BOUNDARY_GLYPH, theme.dim()),
+        Span::styled(boundary_glyph, theme.dim()),
         word(" cycle start ", " cycle "),
     ]);
-    let block = theme.panel(" Slip zones: θ against increments ");
+    let block = theme.panel(theme.sym(
+        " Slip zones: θ against increments ",
+        " Slip zones: theta against increments ",
+    ));
     let inner = block.inner(area);
     let per_column = increments_per_column(steps, inner.width.saturating_sub(GUTTER));
     let block = block.title_bottom(legend).title(
@@ -51,11 +66,11 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             .style(theme.label())
             .right_aligned(),
     );
-    frame.render_widget(block, area);
+    block.render(area, buf);
     if inner.width <= GUTTER + 2 || inner.height < 3 {
         return;
     }
-    draw_map(frame.buffer_mut(), inner, app, theme, per_column);
+    draw_map(buf, inner, app, theme, per_column, boundary_glyph);
 }
 
 /// About two cycles across the map, so a whole cycle is always in view.
@@ -64,7 +79,14 @@ fn increments_per_column(steps: usize, columns: u16) -> usize {
     steps.div_ceil(per_cycle).max(1)
 }
 
-fn draw_map(buf: &mut Buffer, inner: Rect, app: &App, theme: &Theme, per_column: usize) {
+fn draw_map(
+    buf: &mut Buffer,
+    inner: Rect,
+    app: &App,
+    theme: &Theme,
+    per_column: usize,
+    boundary_glyph: &str,
+) {
     let rows = usize::from(inner.height - 1);
     let columns = usize::from(inner.width - GUTTER);
     let map_x = inner.x + GUTTER;
@@ -76,28 +98,52 @@ fn draw_map(buf: &mut Buffer, inner: Rect, app: &App, theme: &Theme, per_column:
     let node_row: Vec<usize> = (0..nodes)
         .map(|j| (((PI - node_theta(j, nodes)) / band) as usize).min(rows - 1))
         .collect();
-    for (label, theta) in [
-        ("π", PI),
-        ("π/2", PI / 2.0),
-        ("0", 0.0),
-        ("-π/2", -PI / 2.0),
-        ("-π", -PI),
-    ] {
+    let labels = if theme.ascii() {
+        [
+            ("pi", PI),
+            ("pi/2", PI / 2.0),
+            ("0", 0.0),
+            ("-pi/2", -PI / 2.0),
+            ("-pi", -PI),
+        ]
+    } else {
+        [
+            ("π", PI),
+            ("π/2", PI / 2.0),
+            ("0", 0.0),
+            ("-π/2", -PI / 2.0),
+            ("-π", -PI),
+        ]
+    };
+    for (label, theta) in labels {
         if rows < 7 && label.contains('/') {
             continue;
         }
         let row = (((PI - theta) / band) as usize).min(rows - 1);
-        let text = format!("{label:>4} ");
+        let text = if label.chars().count() <= 4 {
+            format!("{label:>4} ")
+        } else {
+            format!("{label:>5}")
+        };
         buf.set_string(inner.x, inner.y + row as u16, text, theme.label());
     }
-    buf.set_string(inner.x, axis_y, " θ↑ ", theme.label());
+    buf.set_string(inner.x, axis_y, theme.sym(" θ↑ ", " th "), theme.label());
 
-    let slip_rows = app.slip_rows();
-    let Some(newest) = slip_rows.back() else {
+    let history = app.history();
+    let Some(newest) = history.newest() else {
         buf.set_string(map_x, inner.y, "(no increments yet)", theme.dim());
         return;
     };
-    let last_bin = newest.increment / per_column;
+    // The newest increment at the right edge, unless the history cursor
+    // is further back than the map reaches: then the cursor is.
+    let cursor = app.cursor();
+    let mut last_bin = newest.increment / per_column;
+    if let Some(c) = cursor {
+        let c_bin = c / per_column;
+        if c_bin + columns <= last_bin + columns / 4 {
+            last_bin = c_bin + columns / 4;
+        }
+    }
     let first_bin = last_bin.saturating_sub(columns - 1);
 
     #[derive(Clone, Copy, Default)]
@@ -110,16 +156,19 @@ fn draw_map(buf: &mut Buffer, inner: Rect, app: &App, theme: &Theme, per_column:
     let mut cells = vec![Cell::default(); rows * columns];
     let mut boundary = vec![None; columns];
     let mut transient = vec![false; columns];
-    for row in slip_rows.iter().rev() {
+    for row in history.iter().rev() {
         let bin = row.increment / per_column;
+        if bin > last_bin {
+            continue;
+        }
         if bin < first_bin {
             break;
         }
         let col = bin - first_bin;
-        if row.cycle_start {
-            boundary[col] = Some(row.cycle);
+        if row.cycle_start() {
+            boundary[col] = Some(row.cycle());
         }
-        if row.cycle == 0 {
+        if row.cycle() == 0 {
             transient[col] = true;
         }
         for (j, &code) in row.cells.iter().enumerate() {
@@ -136,13 +185,12 @@ fn draw_map(buf: &mut Buffer, inner: Rect, app: &App, theme: &Theme, per_column:
         }
     }
 
-    // The column of the latest advancing stick, while it is "just" stuck.
-    let stick_col = app
-        .last_stick()
-        .filter(|_| !app.recent_stuck().is_empty())
-        .and_then(|s| (s.increment / per_column).checked_sub(first_bin));
+    // The column on screen (the history cursor's, or the newest), and the
+    // nodes that stuck in its increment.
+    let shown = app.shown();
+    let shown_col = shown.and_then(|r| (r.increment / per_column).checked_sub(first_bin));
     let mut recent_rows = vec![false; rows];
-    for &j in app.recent_stuck() {
+    for &j in shown.map_or(&[][..], |r| &r.newly_stuck[..]) {
         if let Some(&r) = node_row.get(j) {
             recent_rows[r] = true;
         }
@@ -154,7 +202,7 @@ fn draw_map(buf: &mut Buffer, inner: Rect, app: &App, theme: &Theme, per_column:
                 continue;
             }
             let (glyph, style): (&str, Style) = if cell.stuck {
-                let style = if Some(c) == stick_col && recent_rows[r] {
+                let style = if Some(c) == shown_col && recent_rows[r] {
                     theme.newly_stuck()
                 } else {
                     theme.stuck_mark()
@@ -165,9 +213,14 @@ fn draw_map(buf: &mut Buffer, inner: Rect, app: &App, theme: &Theme, per_column:
             } else if cell.backward > 0 {
                 (BACKWARD_GLYPH, theme.backward())
             } else if boundary[c].is_some() {
-                (BOUNDARY_GLYPH, theme.dim())
+                (boundary_glyph, theme.dim())
             } else {
                 (STICK_GLYPH, theme.stick())
+            };
+            let style = if cursor.is_some() && Some(c) == shown_col {
+                style.add_modifier(Modifier::REVERSED)
+            } else {
+                style
             };
             buf.set_string(map_x + c as u16, inner.y + r as u16, glyph, style);
         }
@@ -180,7 +233,7 @@ fn draw_map(buf: &mut Buffer, inner: Rect, app: &App, theme: &Theme, per_column:
             continue;
         }
         let label = match boundary[c] {
-            Some(cycle) => format!("┴{cycle}"),
+            Some(cycle) => format!("{}{cycle}", theme.sym("┴", "^")),
             None if transient[c] && c == 0 => "T".to_string(),
             None => continue,
         };
@@ -190,7 +243,21 @@ fn draw_map(buf: &mut Buffer, inner: Rect, app: &App, theme: &Theme, per_column:
             free_from = c + width + 1;
         }
     }
-    let right = format!(" incr {} ", newest.increment + 1);
+    if let (Some(c), Some(col)) = (cursor, shown_col) {
+        if col < columns {
+            buf.set_string(
+                map_x + col as u16,
+                axis_y,
+                theme.sym("▲", "^"),
+                theme.alert(),
+            );
+            let _ = c;
+        }
+    }
+    let right = match cursor {
+        Some(c) => format!(" at incr {} of {} ", c + 1, newest.increment + 1),
+        None => format!(" incr {} ", newest.increment + 1),
+    };
     let x = (map_x + columns as u16).saturating_sub(right.chars().count() as u16);
     if x > map_x + free_from as u16 {
         buf.set_string(x, axis_y, right, theme.label());

@@ -1,26 +1,38 @@
-//! The status lines: the case, where the run is, what it has become, and
-//! what just happened.
+//! The status lines: the case, the instant on screen, what the run has
+//! become, what was lost from history, and what just happened.
 
+use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Modifier};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::Paragraph;
-use ratatui::Frame;
+use ratatui::widgets::{Paragraph, Widget};
 
 use super::Theme;
 use crate::stepping::{Phase, Status};
-use crate::tui::app::{format_load_factor, format_phase, format_sci, App, Goal};
+use crate::tui::app::{format_load_factor, format_phase, format_sci, App, Confirm, Goal};
+use crate::tui::log::format_theta;
 
-pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let stepper = app.stepper();
+/// The status lines widget.
+pub struct StatusLines<'a> {
+    pub app: &'a App,
+    pub theme: &'a Theme,
+}
+
+impl Widget for StatusLines<'_> {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        render(buf, area, self.app, self.theme);
+    }
+}
+
+fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
     let case = app.case();
     let label = |s: &str| Span::styled(s.to_string(), theme.label());
     let value = |s: String| Span::styled(s, theme.value());
-    let sep = || Span::styled("  │ ", theme.dim());
+    let sep = || Span::styled(theme.sym("  │ ", "  | "), theme.dim());
 
     let wide = area.width >= 100;
     let path = &app.paths()[app.path_index()];
-    let line1 = Line::from(vec![
+    let mut line1 = Line::from(vec![
         label(" lambda = "),
         value(format_load_factor(app.load_factor())),
         label("  phi = "),
@@ -31,62 +43,86 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         value(path.name()),
         label(format!(" ({}/{})", app.path_index() + 1, app.paths().len()).as_str()),
     ]);
-    // The discretisation is secondary: shown when there is room for it
-    // next to the help hint.
-    let mut line1 = line1;
     if wide {
-        line1.spans.extend([
-            sep(),
-            label("N "),
-            value(case.disc.nodes().to_string()),
-            label(", "),
-            value(case.disc.steps_per_cycle().to_string()),
-            label(" incr/cycle"),
-        ]);
+        line1
+            .spans
+            .extend([sep(), label("N "), value(case.disc.nodes().to_string())]);
     }
 
-    let (where_label, where_value) = match stepper.phase() {
-        Phase::Transient { segment, increment } => (
-            " transient ",
-            format!(
-                "seg {}/{} incr {}",
-                segment + 1,
-                stepper.transient().len(),
-                increment
+    let shown = app.shown();
+    let steps = case.disc.steps_per_cycle();
+    let (where_label, where_value) = match (app.cursor(), shown) {
+        (Some(_), Some(r)) => (
+            " history ",
+            match r.phase {
+                Phase::Transient { segment, increment } => format!(
+                    "transient seg {} incr {}  (#{})",
+                    segment + 1,
+                    increment + 1,
+                    r.increment + 1
+                ),
+                Phase::Cycle { cycle, increment } => format!(
+                    "cycle {cycle} incr {}/{steps}  (#{})",
+                    increment + 1,
+                    r.increment + 1
+                ),
+            },
+        ),
+        _ => match app.stepper_phase() {
+            Phase::Transient { segment, increment } => (
+                " transient ",
+                format!(
+                    "seg {}/{} incr {}",
+                    segment + 1,
+                    app.transient().len().max(1),
+                    increment
+                ),
             ),
-        ),
-        Phase::Cycle { cycle, increment } => (
-            " cycle ",
-            format!("{cycle}  incr {increment}/{}", case.disc.steps_per_cycle()),
-        ),
+            Phase::Cycle { cycle, increment } => {
+                (" cycle ", format!("{cycle}  incr {increment}/{steps}"))
+            }
+        },
     };
-    let (state, state_style) = match stepper.status() {
+    let (state, state_style) = match app.status() {
         Status::Running => ("unclassified".to_string(), theme.label()),
         Status::Steady(s) if wide => (
             format!("{} (cycle {})", s.state.as_str(), s.cycles),
             theme.alert(),
         ),
         Status::Steady(s) => (s.state.as_str().to_string(), theme.alert()),
-        Status::Ended(s) if wide => (format!("{} (run ended)", s.state.as_str()), theme.error()),
-        Status::Ended(s) => (s.state.as_str().to_string(), theme.error()),
-    };
-    let rotation = match stepper.summary() {
-        Some(s) => Some(s.rotation_per_cycle),
-        None => stepper.history().last().map(|r| r.rotation),
+        Status::Ended(s) => {
+            let at = s
+                .terminal_load
+                .map(|p| format!(" at ({:.2}, {:.2})", p.x(), p.y()))
+                .unwrap_or_default();
+            (format!("{}{at}", s.state.as_str()), theme.error())
+        }
     };
     let mut line2 = Line::from(vec![label(where_label), value(where_value)]);
-    if wide {
+    if wide && app.cursor().is_none() {
         line2
             .spans
-            .extend([label("  total "), value(stepper.increments().to_string())]);
+            .extend([label("  total "), value(app.increments().to_string())]);
     }
-    line2.spans.extend([
-        sep(),
-        label("state "),
-        Span::styled(state, state_style),
-        label("  rot/cycle "),
-        value(rotation.map_or("–".into(), format_sci)),
-    ]);
+    line2
+        .spans
+        .extend([sep(), label("state "), Span::styled(state, state_style)]);
+    let history = app.history();
+    let lost = match (history.dropped_before(), history.thinned_before()) {
+        (Some(d), _) => Some(format!("history from #{}", d + 1)),
+        (None, Some((t, k))) => Some(format!("before #{} detail 1/{k}", t + 1)),
+        _ => None,
+    };
+    if let Some(l) = lost {
+        line2.spans.extend([sep(), Span::styled(l, theme.alert())]);
+    }
+    if let Some(p) = app.pinned() {
+        line2.spans.extend([
+            sep(),
+            label("pinned "),
+            value(format!("{}: {}", p.label, p.state)),
+        ]);
+    }
 
     let mode = match (app.goal(), app.is_running()) {
         (Some(Goal::Steady), _) => "» steady".to_string(),
@@ -94,6 +130,11 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         (Some(Goal::TransientEnd), _) => "» transient end".to_string(),
         (None, true) => format!("▶ {}/frame", app.speed()),
         (None, false) => format!("‖ paused {}/frame", app.speed()),
+    };
+    let mode = if theme.ascii() {
+        mode.replace('»', ">>").replace('▶', ">").replace('‖', "||")
+    } else {
+        mode
     };
     let mut spans = vec![
         Span::raw(" "),
@@ -112,35 +153,52 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         }),
         sep(),
     ];
-    if let Some(f) = app.failure() {
+    if let Some(c) = app.confirm() {
+        spans.push(Span::styled(
+            match c {
+                Confirm::Quit(_) => "the sweep map is not saved: quit anyway? y/n",
+                Confirm::RestartSweep => "discard the sweep map and rerun? y/n",
+            },
+            theme.error(),
+        ));
+    } else if let Some(text) = app.entry() {
+        spans.push(Span::styled(
+            format!(": {text}_  (lambda = 5.13, phi = pi/4, path = OA; Enter, Esc)"),
+            theme.alert(),
+        ));
+    } else if let Some(f) = app.failure() {
         spans.push(Span::styled(format!("solver failed: {f}"), theme.error()));
     } else {
         if let Some(n) = app.notice() {
             spans.push(Span::styled(n.to_string(), theme.alert()));
             spans.push(sep());
         }
+        // At a history instant, its own events; live, the last one.
+        let event = match (app.cursor(), shown) {
+            (Some(_), Some(r)) => r
+                .events
+                .first()
+                .map(|e| format!("{} (theta/pi {})", e.text, format_theta(e.theta))),
+            _ => app.last_event().map(str::to_string),
+        };
         spans.push(label("event: "));
-        spans.push(Span::raw(app.last_event().unwrap_or("–").to_string()));
+        spans.push(Span::raw(event.unwrap_or_else(|| "–".into())));
     }
     let line3 = Line::from(spans);
 
-    // The help hint is pinned to the right of the first line.
     let first_width = line1.width();
-    frame.render_widget(Paragraph::new(vec![line1, line2, line3]), area);
-    // The view key is named when it fits beside the case, so a user finds
-    // the sweep view without opening the help; the help lists it anyway.
-    let long = " v sweep  ? help  q quit ";
+    Paragraph::new(vec![line1, line2, line3]).render(area, buf);
+    let long = " L log  v sweep  ? help  q quit ";
     let room = area.width as usize >= first_width + long.chars().count();
     let hint = if room { long } else { " ? help  q quit " };
     let w = hint.chars().count() as u16;
     if area.width > w {
         let rect = Rect::new(area.x + area.width - w, area.y, w, 1);
-        frame.render_widget(
-            Paragraph::new(Span::styled(
-                hint,
-                theme.label().add_modifier(Modifier::REVERSED),
-            )),
-            rect,
-        );
+        Paragraph::new(Span::styled(
+            hint,
+            theme.label().add_modifier(Modifier::REVERSED),
+        ))
+        .render(rect, buf);
     }
+    let _ = format_sci;
 }

@@ -61,7 +61,7 @@ pub fn render(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         Layout::vertical([Constraint::Length(LEGEND_HEIGHT), Constraint::Fill(1)]).areas(side);
     match app.sweep() {
         Ok(sweep) => {
-            render_plot(frame, plot, sweep, theme);
+            render_plot(frame, plot, sweep, theme, app.sweep_log_w());
             render_legend(frame, legend, sweep, theme);
             render_details(frame, details, sweep, theme);
         }
@@ -91,7 +91,7 @@ fn x_label(axis: Axis, v: f64) -> String {
     }
 }
 
-fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
+fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme, log: bool) {
     let axis = sweep.axis();
     let progress = if sweep.is_running() {
         format!("{}/{} runs, running", sweep.done(), sweep.total())
@@ -108,6 +108,7 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
     );
     let block = theme.panel(title);
     let inner = block.inner(area);
+    let _ = theme.ascii();
     frame.render_widget(block, area);
     if inner.width < 12 || inner.height < 4 {
         return;
@@ -128,8 +129,42 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
     // A round top that only changes when W outgrows it, so the map does
     // not rescale with every run that arrives.
     let y1 = nice_ceiling(w_max);
-
-    let y_labels = [w_label(y1), w_label(y1 / 2.0), "0".to_string()];
+    // On the log axis the decades from the smallest positive W up: the
+    // spread between transients in cyclic slip (1e-5 to 1e-4) shows.
+    let w_min = sweep
+        .rows()
+        .filter_map(|r| r.outcome.as_ref().ok().map(|s| s.dissipation))
+        .filter(|w| w.is_finite() && *w > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let (d0, d1) = if w_min.is_finite() {
+        (
+            w_min.log10().floor(),
+            w_max.log10().ceil().max(w_min.log10().floor() + 1.0),
+        )
+    } else {
+        (-6.0, -1.0)
+    };
+    let y_of = move |w: f64| -> f64 {
+        if log {
+            if w > 0.0 {
+                w.log10().max(d0)
+            } else {
+                d0
+            }
+        } else {
+            w
+        }
+    };
+    let (yb0, yb1) = if log { (d0, d1) } else { (0.0, y1) };
+    let y_labels = if log {
+        [
+            format!("1e{}", d1 as i32),
+            format!("1e{}", ((d0 + d1) / 2.0).round() as i32),
+            format!("<1e{}", d0 as i32),
+        ]
+    } else {
+        [w_label(y1), w_label(y1 / 2.0), "0".to_string()]
+    };
     let label_width = y_labels
         .iter()
         .map(|l| l.chars().count())
@@ -153,7 +188,8 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
     }
     if rows >= 4 {
         // The axis name, between the top and middle labels.
-        lines[1] = Line::from(Span::styled("W", theme.title())).right_aligned();
+        lines[1] = Line::from(Span::styled(if log { "log W" } else { "W" }, theme.title()))
+            .right_aligned();
     }
     frame.render_widget(
         Paragraph::new(lines),
@@ -218,10 +254,10 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
     let canvas = Canvas::default()
         .marker(Marker::Braille)
         .x_bounds([x0, x1])
-        .y_bounds([0.0, y1])
+        .y_bounds([yb0, yb1])
         .paint(move |ctx| {
             if let Some(l2) = limit.filter(|l| (x0..=x1).contains(l)) {
-                ctx.draw(&CanvasLine::new(l2, 0.0, l2, y1, limit_color));
+                ctx.draw(&CanvasLine::new(l2, yb0, l2, yb1, limit_color));
             }
             ctx.layer();
             // Markers are text, printed over the lines in the order given;
@@ -229,10 +265,10 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
             for row in sweep.rows() {
                 let (x, y) = point(sweep, row);
                 let (glyph, color, _) = marker(row.state());
-                ctx.print(x, y, Span::styled(glyph, theme.fg(color)));
+                ctx.print(x, y_of(y), Span::styled(glyph, theme.fg(color)));
             }
             if let Some(l2) = limit.filter(|l| (x0..=x1).contains(l)) {
-                ctx.print(l2, y1, Span::styled(format!("λ2={l2:.2}"), limit_style));
+                ctx.print(l2, yb1, Span::styled(format!("λ2={l2:.2}"), limit_style));
             }
             if let Some(row) = selected {
                 let (x, y) = point(sweep, row);
@@ -240,7 +276,7 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
                 let style = theme
                     .fg(color)
                     .add_modifier(Modifier::REVERSED | Modifier::BOLD);
-                ctx.print(x, y, Span::styled(glyph, style));
+                ctx.print(x, y_of(y), Span::styled(glyph, style));
             }
         });
     frame.render_widget(canvas, canvas_area);
@@ -345,10 +381,26 @@ fn render_details(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
                 lines.push(Line::from(Span::styled(format!(" {e}"), theme.dim())));
             }
         }
-        lines.push(Line::from(Span::styled(
-            " Enter: open in stepping view",
-            theme.dim(),
-        )));
+        // W of every transient at this x: the spread the paper reads.
+        let x = sweep.x_of(job);
+        lines.push(Line::from(Span::styled(" at this x:", theme.label())));
+        for other in sweep.jobs().iter().filter(|j| sweep.x_of(j) == x) {
+            let row = sweep.rows().find(|r| r.job.index == other.index);
+            let (glyph, w) = match row.map(|r| (&r.outcome, r.state())) {
+                None => (" ", "…".to_string()),
+                Some((Ok(s), st)) => (marker(st).0, format_sci(s.dissipation)),
+                Some((Err(_), st)) => (marker(st).0, "failed".into()),
+            };
+            let mark = if other.index == job.index { ">" } else { " " };
+            lines.push(Line::from(vec![
+                Span::styled(
+                    format!(" {mark}{:<8}", sweep.initial(other).name()),
+                    theme.label(),
+                ),
+                Span::styled(format!("{glyph} "), theme.value()),
+                Span::styled(w, theme.value()),
+            ]));
+        }
     } else {
         lines.push(Line::from(Span::styled(" no runs", theme.dim())));
     }
@@ -380,14 +432,26 @@ fn render_status(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             state,
         ]);
     }
-    let line2 = Line::from(Span::styled(
-        format!(" {}", app.notice().unwrap_or("")),
-        theme.alert(),
-    ));
-    let line3 = Line::from(Span::styled(
-        " v stepping view  ←→ x  ↑↓ transient  Enter open  r rerun  ? help  q quit",
-        theme.label(),
-    ));
+    let line2 = match app.confirm() {
+        Some(crate::tui::app::Confirm::Quit(_)) => Line::from(Span::styled(
+            " the map is not saved (s saves): quit anyway? y/n",
+            theme.error(),
+        )),
+        Some(crate::tui::app::Confirm::RestartSweep) => Line::from(Span::styled(
+            " discard this map and rerun the sweep? y/n",
+            theme.error(),
+        )),
+        None => Line::from(Span::styled(
+            format!(" {}", app.notice().unwrap_or("")),
+            theme.alert(),
+        )),
+    };
+    let hint = if area.width >= 100 {
+        " Esc back  ←→ PgUp PgDn Home End x  ↑↓ run  Enter open  w log W  s save  r rerun  ? help  q quit"
+    } else {
+        " Esc back  ←→ x  ↑↓ run  Enter open  w log W  s save  r rerun  ? help  q quit"
+    };
+    let line3 = Line::from(Span::styled(hint, theme.label()));
     frame.render_widget(
         Paragraph::new(vec![Line::from(line1), line2, line3]).style(Style::default()),
         area,

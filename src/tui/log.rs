@@ -1,0 +1,245 @@
+//! The event log: every event of the run with its cycle, `omega t`, load
+//! point and `theta` range, and the filters that choose which events the
+//! jump keys land on and which pause the run.
+//!
+//! Entries are made from the stepper's [`Event`]s as they come (the slip
+//! zone changes are the stepper's own, see `stepping::zones`); nothing is
+//! worked out here beyond describing them.
+
+use std::f64::consts::PI;
+
+use super::format::{format_sci, node_theta, plural};
+use crate::contact::SlipDirection;
+use crate::stepping::{slip_zones, Event, ZoneChange};
+
+/// The kinds of events the log lists and the filters choose from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EventKind {
+    AdvancingStick,
+    Appeared,
+    Split,
+    Merged,
+    Vanished,
+    /// The transient ended or a cycle completed.
+    Cycle,
+    /// Classified, gross slip, separation, or a solver failure.
+    State,
+}
+
+impl EventKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            EventKind::AdvancingStick => "advancing stick",
+            EventKind::Appeared => "zone appeared",
+            EventKind::Split => "zone split",
+            EventKind::Merged => "zones merged",
+            EventKind::Vanished => "zone vanished",
+            EventKind::Cycle => "cycle",
+            EventKind::State => "state",
+        }
+    }
+}
+
+/// Which events the jump keys and the pause on events look for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Filter {
+    /// `None`: every kind except cycle ends and vanishing zones.
+    pub kind: Option<EventKind>,
+    /// Advancing stick of fewer nodes is ignored.
+    pub min_nodes: usize,
+}
+
+impl Default for Filter {
+    fn default() -> Self {
+        Self {
+            kind: None,
+            min_nodes: 1,
+        }
+    }
+}
+
+/// The kinds `k` cycles through, `None` being "any notable event".
+pub const KINDS: [Option<EventKind>; 8] = [
+    None,
+    Some(EventKind::AdvancingStick),
+    Some(EventKind::Appeared),
+    Some(EventKind::Split),
+    Some(EventKind::Merged),
+    Some(EventKind::Vanished),
+    Some(EventKind::Cycle),
+    Some(EventKind::State),
+];
+
+/// The sizes `m` cycles through for advancing stick.
+pub const MIN_NODES: [usize; 8] = [1, 2, 4, 8, 16, 32, 64, 128];
+
+impl Filter {
+    pub fn matches(&self, e: &LogEntry) -> bool {
+        let kind_ok = match self.kind {
+            None => !matches!(e.kind, EventKind::Cycle | EventKind::Vanished),
+            Some(k) => k == e.kind,
+        };
+        kind_ok && (e.kind != EventKind::AdvancingStick || e.nodes >= self.min_nodes)
+    }
+
+    pub fn describe(&self) -> String {
+        let kind = self.kind.map_or("any event", EventKind::name);
+        if self.min_nodes > 1 && matches!(self.kind, None | Some(EventKind::AdvancingStick)) {
+            format!("{kind}, stick >= {} nodes", self.min_nodes)
+        } else {
+            kind.to_string()
+        }
+    }
+}
+
+/// One line of the log.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogEntry {
+    pub kind: EventKind,
+    /// Increment number from the start of the run (0-based).
+    pub increment: usize,
+    /// 0 in the transient.
+    pub cycle: usize,
+    /// `omega t` of the event, `None` in the transient.
+    pub time: Option<f64>,
+    /// The load point of the event.
+    pub load: (f64, f64),
+    /// Nodes concerned (advancing stick), else 0.
+    pub nodes: usize,
+    /// First and last `theta` concerned, in `[-pi, pi)`.
+    pub theta: Option<(f64, f64)>,
+    /// What happened, in words.
+    pub text: String,
+}
+
+impl LogEntry {
+    pub fn bytes(&self) -> usize {
+        std::mem::size_of::<Self>() + self.text.len()
+    }
+}
+
+/// Where and when the events of one increment happened. The stepper's
+/// events do not all carry their own time and load point yet; until they
+/// do, the increment's end stands for them.
+#[derive(Debug, Clone, Copy)]
+pub struct At {
+    pub increment: usize,
+    pub cycle: usize,
+    pub time: Option<f64>,
+    pub load: (f64, f64),
+}
+
+/// The log entries of one increment's events. `directions` are the slip
+/// directions after the increment (for the `theta` range of zones).
+pub fn entries(events: &[Event], at: At, directions: &[SlipDirection]) -> Vec<LogEntry> {
+    let n = directions.len();
+    let entry = |kind, nodes, theta, text: String| LogEntry {
+        kind,
+        increment: at.increment,
+        cycle: at.cycle,
+        time: at.time,
+        load: at.load,
+        nodes,
+        theta,
+        text,
+    };
+    let mut out = Vec::new();
+    for event in events {
+        match event {
+            Event::SlipSetChanged { changes, .. } => {
+                for change in changes {
+                    let (kind, d) = match *change {
+                        ZoneChange::Appeared(d) => (EventKind::Appeared, d),
+                        ZoneChange::Split(d) => (EventKind::Split, d),
+                        ZoneChange::Merged(d) => (EventKind::Merged, d),
+                        ZoneChange::Vanished(d) => (EventKind::Vanished, d),
+                    };
+                    let nodes: Vec<usize> = slip_zones(directions)
+                        .iter()
+                        .filter(|z| z.direction == d)
+                        .flat_map(|z| z.nodes(n).collect::<Vec<_>>())
+                        .collect();
+                    out.push(entry(kind, 0, theta_range(&nodes, n), change.to_string()));
+                }
+            }
+            Event::AdvancingStick { nodes, substeps } => out.push(entry(
+                EventKind::AdvancingStick,
+                nodes.len(),
+                theta_range(nodes, n),
+                format!(
+                    "advancing stick at {} ({substeps} sub-increments)",
+                    plural(nodes.len(), "node")
+                ),
+            )),
+            Event::TransientFinished => out.push(entry(
+                EventKind::Cycle,
+                0,
+                None,
+                "transient finished: cycle 1 begins".into(),
+            )),
+            Event::CycleCompleted {
+                cycle,
+                dissipation,
+                rotation,
+            } => out.push(entry(
+                EventKind::Cycle,
+                0,
+                None,
+                format!(
+                    "cycle {cycle} completed: W = {}, rotation {}",
+                    format_sci(*dissipation),
+                    format_sci(*rotation)
+                ),
+            )),
+            Event::SteadyStateReached(s) => out.push(entry(
+                EventKind::State,
+                0,
+                None,
+                format!("classified: {} after {} cycles", s.state.as_str(), s.cycles),
+            )),
+            Event::GrossSlip { load, time } => {
+                let mut e = entry(
+                    EventKind::State,
+                    0,
+                    None,
+                    format!(
+                        "gross slip at load point ({:.3}, {:.3})",
+                        load.x(),
+                        load.y()
+                    ),
+                );
+                e.load = (load.x(), load.y());
+                e.time = time.or(e.time);
+                out.push(e);
+            }
+            Event::Separation { load, time, theta } => {
+                let mut e = entry(
+                    EventKind::State,
+                    0,
+                    Some((*theta, *theta)),
+                    format!("separation at theta = {:.3}pi", theta / PI),
+                );
+                e.load = (load.x(), load.y());
+                e.time = time.or(e.time);
+                out.push(e);
+            }
+        }
+    }
+    out
+}
+
+/// The smallest and largest `theta` of `nodes`.
+fn theta_range(nodes: &[usize], n: usize) -> Option<(f64, f64)> {
+    let mut it = nodes.iter().map(|&j| node_theta(j, n));
+    let first = it.next()?;
+    Some(it.fold((first, first), |(a, b), t| (a.min(t), b.max(t))))
+}
+
+/// `theta/pi = -0.73..-0.70`, or one value.
+pub fn format_theta(range: Option<(f64, f64)>) -> String {
+    match range {
+        None => "–".into(),
+        Some((a, b)) if (a - b).abs() < 1e-12 => format!("{:.2}", a / PI),
+        Some((a, b)) => format!("{:.2}..{:.2}", a / PI, b / PI),
+    }
+}

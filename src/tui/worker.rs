@@ -1,0 +1,435 @@
+//! The stepping thread: it owns the [`Stepper`] so that the UI thread never
+//! waits on the physics. It takes [`Command`]s (restart with a case, step
+//! towards a goal, pause, the pause filter) and sends back one [`Record`]
+//! per increment and a [`Reply::Stopped`] when a goal ends. Every goal is
+//! run by [`stepping::drive`] with an observer; the observer stops the
+//! drive as soon as a new command arrives, so a restart cancels the work it
+//! replaces.
+
+use std::sync::mpsc::{self, Receiver, Sender, SyncSender, TryRecvError};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use super::history::{Detail, Record, BACKWARD, FORWARD, NEWLY_STUCK, STICK};
+use super::log::{self, At, Filter};
+use crate::analysis::case::Case;
+use crate::contact::{Operators, SlipDirection};
+use crate::model::path::Segment;
+use crate::stepping::{self, Control, Event, Phase, Status, StepReport, Stepper};
+
+/// How far the worker should go.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Goal {
+    Increments(usize),
+    TransientEnd,
+    CycleEnd,
+    Steady,
+    /// Run on at this many increments per frame until told otherwise.
+    Paced(usize),
+}
+
+/// What the UI asks of the worker.
+#[derive(Debug)]
+pub enum Command {
+    /// A new run on `case`; records of older generations are stale.
+    Restart { generation: u64, case: Box<Case> },
+    /// Step towards `goal`; `Stopped` answers with the same `seq`.
+    Go { seq: u64, goal: Goal },
+    /// Stop stepping (the drive in progress, if any, answers `Stopped`).
+    Pause,
+    /// Which events stop a drive (`None`: none do).
+    PauseOn(Option<Filter>),
+    /// The byte budget the stepper's own per-cycle records may use.
+    Budget(usize),
+}
+
+/// Why a drive stopped.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Stopped {
+    /// The goal was met.
+    Reached,
+    /// An event the filter asked to pause on.
+    Event(String),
+    /// Gross slip or separation: no further steps are possible.
+    Ended,
+    /// The solver failed.
+    Failed(String),
+    /// A new command replaced the drive.
+    Cancelled,
+    /// The stepper's own record of cycles reached its budget.
+    Memory,
+}
+
+/// What the worker sends back.
+#[derive(Debug)]
+pub enum Reply {
+    /// A run began: its transient and friction coefficient.
+    Started {
+        generation: u64,
+        transient: Vec<Segment>,
+        friction: f64,
+    },
+    Record(Box<Record>),
+    Stopped {
+        generation: u64,
+        seq: u64,
+        why: Stopped,
+    },
+}
+
+/// Replies in flight before the worker waits for the UI: enough for a
+/// few frames at top speed, few enough to bound memory.
+const CHANNEL: usize = 4096;
+/// The frame the paced goal keeps to.
+const FRAME: Duration = Duration::from_millis(16);
+
+/// The UI's handle on the worker thread; dropping it ends the thread.
+pub struct Worker {
+    tx: Option<Sender<Command>>,
+    rx: Receiver<Reply>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Worker {
+    pub fn spawn(operators: Arc<Operators>) -> Self {
+        let (tx, commands) = mpsc::channel();
+        let (replies, rx) = mpsc::sync_channel(CHANNEL);
+        let thread = std::thread::Builder::new()
+            .name("shakedown-stepper".into())
+            .spawn(move || Thread::new(operators, commands, replies).run())
+            .ok();
+        Self {
+            tx: Some(tx),
+            rx,
+            thread,
+        }
+    }
+
+    pub fn send(&self, command: Command) {
+        if let Some(tx) = &self.tx {
+            let _ = tx.send(command);
+        }
+    }
+
+    pub fn try_recv(&self) -> Option<Reply> {
+        self.rx.try_recv().ok()
+    }
+
+    /// Wait for the next reply (tests and `advance`); `None` if the thread
+    /// is gone.
+    pub fn recv(&self) -> Option<Reply> {
+        self.rx.recv().ok()
+    }
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        // Closing both channels ends the thread: at its next command wait,
+        // its next send, or its next check between increments. It is not
+        // joined, so quitting never waits on an increment in progress.
+        self.tx = None;
+        let (_, dead) = mpsc::sync_channel(0);
+        drop(std::mem::replace(&mut self.rx, dead));
+        drop(self.thread.take());
+    }
+}
+
+struct Thread {
+    operators: Arc<Operators>,
+    commands: Receiver<Command>,
+    replies: SyncSender<Reply>,
+    stepper: Option<Stepper>,
+    generation: u64,
+    filter: Option<Filter>,
+    budget: usize,
+    pending: Option<Command>,
+    closed: bool,
+}
+
+impl Thread {
+    fn new(
+        operators: Arc<Operators>,
+        commands: Receiver<Command>,
+        replies: SyncSender<Reply>,
+    ) -> Self {
+        Self {
+            operators,
+            commands,
+            replies,
+            stepper: None,
+            generation: 0,
+            filter: None,
+            budget: usize::MAX,
+            pending: None,
+            closed: false,
+        }
+    }
+
+    fn run(mut self) {
+        while !self.closed {
+            let command = match self.pending.take() {
+                Some(c) => c,
+                None => match self.commands.recv() {
+                    Ok(c) => c,
+                    Err(_) => return,
+                },
+            };
+            self.handle(command);
+        }
+    }
+
+    fn handle(&mut self, command: Command) {
+        match command {
+            Command::Restart { generation, case } => {
+                // A storm of restarts builds only the last one.
+                let mut case = case;
+                let mut generation = generation;
+                loop {
+                    match self.commands.try_recv() {
+                        Ok(Command::Restart {
+                            generation: g,
+                            case: c,
+                        }) => {
+                            generation = g;
+                            case = c;
+                        }
+                        Ok(other) => {
+                            self.pending = Some(other);
+                            break;
+                        }
+                        Err(TryRecvError::Empty) => break,
+                        Err(TryRecvError::Disconnected) => {
+                            self.closed = true;
+                            return;
+                        }
+                    }
+                }
+                let stepper = Stepper::with_operators(
+                    Arc::clone(&self.operators),
+                    case.material,
+                    case.disc,
+                    &case.initial,
+                    case.cycle,
+                    case.options,
+                );
+                self.generation = generation;
+                let reply = Reply::Started {
+                    generation,
+                    transient: stepper.transient().to_vec(),
+                    friction: stepper.contact().material().friction(),
+                };
+                self.stepper = Some(stepper);
+                self.send(reply);
+            }
+            Command::Go { seq, goal } => self.go(seq, goal),
+            Command::Pause => {}
+            Command::PauseOn(f) => self.filter = f,
+            Command::Budget(b) => self.budget = b,
+        }
+    }
+
+    fn send(&mut self, reply: Reply) {
+        if self.replies.send(reply).is_err() {
+            self.closed = true;
+        }
+    }
+
+    fn go(&mut self, seq: u64, goal: Goal) {
+        let why = match goal {
+            Goal::Paced(rate) => loop {
+                let start = Instant::now();
+                match self.drive(stepping::Goal::Increments(rate.max(1)), false) {
+                    Stopped::Reached => {}
+                    other => break other,
+                }
+                // Wait out the frame, but answer a command at once.
+                let left = FRAME.saturating_sub(start.elapsed());
+                match self.commands.recv_timeout(left) {
+                    Ok(c) => {
+                        self.pending = Some(c);
+                        break Stopped::Cancelled;
+                    }
+                    Err(mpsc::RecvTimeoutError::Timeout) => {}
+                    Err(mpsc::RecvTimeoutError::Disconnected) => {
+                        self.closed = true;
+                        break Stopped::Cancelled;
+                    }
+                }
+            },
+            Goal::Increments(n) => self.drive(stepping::Goal::Increments(n), true),
+            Goal::TransientEnd => self.drive(stepping::Goal::TransientEnd, true),
+            Goal::CycleEnd => self.drive(stepping::Goal::CycleEnd, true),
+            Goal::Steady => self.drive(stepping::Goal::Steady, true),
+        };
+        let generation = self.generation;
+        self.send(Reply::Stopped {
+            generation,
+            seq,
+            why,
+        });
+    }
+
+    /// One call of the driver. `to_the_end`: the goal is the user's (so
+    /// the end of the run reports `Ended` rather than `Reached`).
+    fn drive(&mut self, goal: stepping::Goal, to_the_end: bool) -> Stopped {
+        let Some(mut stepper) = self.stepper.take() else {
+            return Stopped::Failed("no run".into());
+        };
+        if stepper.is_finished() {
+            self.stepper = Some(stepper);
+            return Stopped::Ended;
+        }
+        let mut why: Option<Stopped> = None;
+        let mut slip_before: Vec<f32> = centred_slip(&stepper);
+        let budget = self.budget;
+        let filter = self.filter;
+        let generation = self.generation;
+        let result = {
+            let commands = &self.commands;
+            let replies = &self.replies;
+            let pending = &mut self.pending;
+            let closed = &mut self.closed;
+            let mut observer = |s: &Stepper, report: &StepReport| -> Control {
+                let record = make_record(s, report, generation, &slip_before);
+                slip_before = record
+                    .detail
+                    .as_ref()
+                    .map(|d| d.slip.clone())
+                    .unwrap_or_default();
+                let pause = filter.and_then(|f| {
+                    record
+                        .events
+                        .iter()
+                        .find(|e| f.matches(e))
+                        .map(|e| e.text.clone())
+                });
+                if replies.send(Reply::Record(Box::new(record))).is_err() {
+                    *closed = true;
+                    return Control::Stop;
+                }
+                if let Some(text) = pause {
+                    why = Some(Stopped::Event(text));
+                    return Control::Stop;
+                }
+                match commands.try_recv() {
+                    Ok(c) => {
+                        *pending = Some(c);
+                        why = Some(Stopped::Cancelled);
+                        return Control::Stop;
+                    }
+                    Err(TryRecvError::Disconnected) => {
+                        *closed = true;
+                        why = Some(Stopped::Cancelled);
+                        return Control::Stop;
+                    }
+                    Err(TryRecvError::Empty) => {}
+                }
+                // The stepper keeps every cycle's per-node record; past
+                // the steady state that would grow without bound.
+                let held = s.history().len() * 16 * s.contact().nodes();
+                if held > budget && !matches!(s.status(), Status::Running) {
+                    why = Some(Stopped::Memory);
+                    return Control::Stop;
+                }
+                Control::Continue
+            };
+            stepping::drive(&mut stepper, goal, &mut observer)
+        };
+        let finished = stepper.is_finished();
+        self.stepper = Some(stepper);
+        match result {
+            Err(e) => Stopped::Failed(e.to_string()),
+            Ok(_) => match why {
+                Some(w) => w,
+                None if finished && to_the_end => Stopped::Ended,
+                None if finished => Stopped::Ended,
+                None => Stopped::Reached,
+            },
+        }
+    }
+}
+
+/// `g` minus its mean, as stored.
+fn centred_slip(s: &Stepper) -> Vec<f32> {
+    let c = s.contact();
+    let r = c.rotation();
+    c.slip().iter().map(|&g| (g - r) as f32).collect()
+}
+
+fn make_record(s: &Stepper, report: &StepReport, generation: u64, before: &[f32]) -> Record {
+    let c = s.contact();
+    let after = s.phase();
+    let increment = s.increments().saturating_sub(1);
+    // The phase the increment was taken in: one step back from `after`.
+    let phase = match after {
+        Phase::Cycle { cycle, increment } if increment > 0 => Phase::Cycle {
+            cycle,
+            increment: increment - 1,
+        },
+        Phase::Cycle { cycle, .. } if cycle > 1 => Phase::Cycle {
+            cycle: cycle - 1,
+            increment: s.discretisation().steps_per_cycle() - 1,
+        },
+        Phase::Cycle { .. } => Phase::Transient {
+            segment: s.transient().len().saturating_sub(1),
+            increment: 0,
+        },
+        t => t,
+    };
+    let mut cells: Vec<u8> = c
+        .directions()
+        .iter()
+        .map(|d| match d {
+            SlipDirection::Stick => STICK,
+            SlipDirection::Forward => FORWARD,
+            SlipDirection::Backward => BACKWARD,
+        })
+        .collect();
+    for &j in &report.newly_stuck {
+        if let Some(x) = cells.get_mut(j) {
+            *x |= NEWLY_STUCK;
+        }
+    }
+    let load = (c.load().x(), c.load().y());
+    let cycle = match phase {
+        Phase::Transient { .. } => 0,
+        Phase::Cycle { cycle, .. } => cycle,
+    };
+    let at = At {
+        increment,
+        cycle,
+        time: s.time(),
+        load,
+    };
+    let events = log::entries(&report.events, at, c.directions());
+    let slip_before =
+        (!report.newly_stuck.is_empty() && before.len() == c.nodes()).then(|| before.to_vec());
+    Record {
+        generation,
+        increment,
+        phase,
+        after,
+        time: s.time(),
+        load,
+        cells,
+        dissipation: s.current_cycle().dissipation,
+        rotation: c.rotation(),
+        status: s.status().clone(),
+        events,
+        newly_stuck: report.newly_stuck.clone(),
+        substeps: report.substeps,
+        completed: report.events.iter().find_map(|e| match e {
+            Event::CycleCompleted {
+                cycle, dissipation, ..
+            } => Some((*cycle, *dissipation)),
+            _ => None,
+        }),
+        detail: Some(Box::new(Detail {
+            pressure: c.pressure().iter().map(|&v| v as f32).collect(),
+            shear: c.shear().iter().map(|&v| v as f32).collect(),
+            slip: centred_slip(s),
+            slip_before,
+        })),
+    }
+}
