@@ -4,7 +4,7 @@
 use std::f64::consts::{FRAC_PI_4, PI};
 use std::sync::Arc;
 
-use crate::model::{Cycle, LoadPoint};
+use crate::model::{Cycle, LoadPoint, Material};
 
 /// A bad initial-path name or custom path.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -27,6 +27,17 @@ pub enum PathError {
     EmptyList,
     #[error("custom path point {index} is not finite")]
     NotFinite { index: usize },
+    #[error("custom path point {index} ({x}, {y}) is beyond gross slip: |y| must be below 2 pi = 6.2832")]
+    GrossSlip { index: usize, x: f64, y: f64 },
+    #[error("custom path point {index} ({x}, {y}) separates the contact: |x| must be below 2 pi chi / (f beta) = {limit:.4}")]
+    Separation {
+        index: usize,
+        x: f64,
+        y: f64,
+        limit: f64,
+    },
+    #[error("a custom path needs at least one point")]
+    EmptyPath,
 }
 
 /// How the locked-in slip is prepared before the steady cycle starts.
@@ -66,12 +77,13 @@ impl Initial {
         out
     }
 
-    /// Stable name: `OA`, `a,b`, `custom` or the slip's name.
+    /// Stable name: `OA`, `a,b`, `path:x1,y1;...` (units of pi) or the
+    /// slip's name.
     pub fn name(&self) -> String {
         match self {
             Initial::Direct => "OA".into(),
             Initial::Via { a, b } => format!("{a},{b}"),
-            Initial::Custom(_) => "custom".into(),
+            Initial::Custom(points) => custom_name(points),
             Initial::Slip { name, .. } => name.clone(),
             Initial::Optimal => "optimal".into(),
         }
@@ -140,12 +152,48 @@ impl Initial {
     }
 
     /// A custom transient through the given load-plane points.
+    ///
+    /// # Errors
+    ///
+    /// [`PathError::NotFinite`] for a point that is not finite (numbered
+    /// from 1).
     pub fn custom(points: Vec<LoadPoint>) -> Result<Initial, PathError> {
         if let Some(index) = points
             .iter()
             .position(|p| !(p.x().is_finite() && p.y().is_finite()))
         {
-            return Err(PathError::NotFinite { index });
+            return Err(PathError::NotFinite { index: index + 1 });
+        }
+        Ok(Initial::Custom(points))
+    }
+
+    /// A custom transient `O -> points -> A` for `material`, with every
+    /// point checked: finite, inside gross slip (`|y| < 2 pi`) and free of
+    /// separation without locked-in slip (`|x| < 2 pi chi / (f beta)`,
+    /// model.md section 1). The run itself still reports gross slip or
+    /// separation that locked-in slip brings on earlier.
+    ///
+    /// # Errors
+    ///
+    /// [`PathError::EmptyPath`], [`PathError::NotFinite`],
+    /// [`PathError::GrossSlip`] or [`PathError::Separation`], naming the
+    /// first bad point (numbered from 1).
+    pub fn custom_for(points: Vec<LoadPoint>, material: &Material) -> Result<Initial, PathError> {
+        if points.is_empty() {
+            return Err(PathError::EmptyPath);
+        }
+        let limit = 2.0 * PI * material.chi() / (material.friction() * material.beta());
+        for (k, p) in points.iter().enumerate() {
+            let (index, x, y) = (k + 1, p.x(), p.y());
+            if !(x.is_finite() && y.is_finite()) {
+                return Err(PathError::NotFinite { index });
+            }
+            if y.abs() >= 2.0 * PI {
+                return Err(PathError::GrossSlip { index, x, y });
+            }
+            if x.abs() >= limit {
+                return Err(PathError::Separation { index, x, y, limit });
+            }
         }
         Ok(Initial::Custom(points))
     }
@@ -165,6 +213,18 @@ impl Initial {
         w.push(center);
         w
     }
+}
+
+/// `path:x1,y1;x2,y2` with the coordinates in units of pi (`1.75pi`), the
+/// form `--initial-path` takes: a stable name for a custom path in a
+/// sweep's CSV.
+fn custom_name(points: &[LoadPoint]) -> String {
+    let pi = |v: f64| format!("{}pi", v / PI);
+    let parts: Vec<String> = points
+        .iter()
+        .map(|p| format!("{},{}", pi(p.x()), pi(p.y())))
+        .collect();
+    format!("path:{}", parts.join(";"))
 }
 
 impl std::fmt::Display for Initial {
