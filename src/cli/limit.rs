@@ -20,7 +20,7 @@ pub struct LimitArgs {
     /// Load points on an elliptical cycle (phi != 0); a straight line uses its two ends.
     #[arg(long, value_name = "M")]
     pub samples: Option<String>,
-    /// Write the optimal slip g(theta) here as CSV.
+    /// Write the optimal slip g(theta) here as CSV (with --phi LIST|RANGE: the curve phi,lambda_2,lower_bound).
     #[arg(long, value_name = "FILE", default_value = "optimal_slip.csv")]
     pub out: std::path::PathBuf,
     /// Print one JSON object instead of the readable report.
@@ -40,6 +40,9 @@ fn classify(e: LimitError) -> anyhow::Error {
 }
 
 pub fn limit(args: LimitArgs) -> Result<ExitCode> {
+    if let Some(phis) = args.case.phi.as_deref().filter(|t| t.contains(':') || t.contains(',')) {
+        return curve(&args, phis);
+    }
     let base = args.case.base(CaseParams::default())?;
     let mut params = args.case.apply(base)?;
     // lambda and the initial path play no part in the limit.
@@ -187,3 +190,47 @@ fn readable(
     );
     o
 }
+
+/// `limit --phi LIST|RANGE`: `lambda_2` against `phi` as CSV on stdout,
+/// and in `--out` when given.
+fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
+    use shakedown::analysis::limit_curve::{curve_csv, limit_curve};
+    use shakedown::io::parse::{parse_angle, parse_values};
+    let phases = parse_values(phis, parse_angle).map_err(|e| super::bad_flag("phi", phis, e))?;
+    let base = args.case.base(CaseParams::default())?;
+    let mut flags = args.case.clone();
+    flags.phi = None;
+    let mut params = flags.apply(base)?;
+    params.phase = phases[0];
+    params.initial = "OA".into();
+    let case = Case::from_params(&params).map_err(|e| anyhow!(InputError(e.to_string())))?;
+    let samples = match &args.samples {
+        Some(t) => t
+            .trim()
+            .parse::<usize>()
+            .map_err(|_| anyhow!(InputError(format!("--samples {t}: not a whole number"))))?,
+        None => DEFAULT_SAMPLES,
+    };
+    let points = limit_curve(
+        &case.material,
+        case.cycle.center,
+        case.cycle.slope,
+        &phases,
+        &case.disc,
+        samples,
+    );
+    if let Some(e) = points.iter().find_map(|p| p.limit.as_ref().err()) {
+        eprintln!("warning: the programme failed at some phases (empty values): {e}");
+    }
+    let csv = curve_csv(&points);
+    print!("{csv}");
+    // The default --out names the optimal-slip file of a single phase; a
+    // curve is written only where the user asks.
+    if args.out != std::path::Path::new(DEFAULT_OUT) {
+        std::fs::write(&args.out, &csv)
+            .map_err(|e| anyhow!(InputError(format!("--out {}: {e}", args.out.display()))))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+const DEFAULT_OUT: &str = "optimal_slip.csv";

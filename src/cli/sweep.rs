@@ -49,6 +49,9 @@ pub struct ListArgs {
     /// Initial paths: all (the paper's 25), optimal (the lambda_2 slip, per phase), or a list such as OA,7,-7 (points take two numbers) or all,optimal.
     #[arg(long = "initial", value_name = "all|NAMES", allow_hyphen_values = true)]
     pub initials: Option<String>,
+    /// A custom transient O -> points -> A: load-plane points "X1,Y1;X2,Y2" (angles as in --phi, e.g. "1.75pi,-1.75pi"). Runs alone, or after the --initial list when that is given.
+    #[arg(long = "initial-path", value_name = "X,Y;...", allow_hyphen_values = true)]
+    pub initial_path: Option<String>,
 }
 
 /// The grid of a sweep: what `sweep` runs and what `merge` re-derives.
@@ -100,12 +103,23 @@ pub fn spec(
         (None, Some(p)) => p.phases.clone(),
         (None, None) => vec![params.phase],
     };
-    let initials = match (&lists.initials, preset) {
+    let mut initials = match (&lists.initials, preset) {
         (Some(t), _) => Initial::parse_list(t).map_err(|e| bad_flag("initial", t, e))?,
         (None, Some(p)) => p.initials.clone(),
         (None, None) => Initial::parse_list(&params.initial)
             .map_err(|e| bad_flag("initial", &params.initial, e))?,
     };
+    if let Some(text) = &lists.initial_path {
+        let material = shakedown::model::Material::new(params.friction, params.poisson, params.plane)
+            .map_err(|e| case_error(CaseError::Param(e), |f| model.given(f)))?;
+        let custom = super::custom_path(text, &material)?;
+        if lists.initials.is_none() {
+            initials.clear();
+        }
+        if !initials.contains(&custom) {
+            initials.push(custom);
+        }
+    }
     let given = |flag: &str| match flag {
         "lambda" => lists.lambdas.clone(),
         "phi" => lists.phis.clone(),
@@ -266,6 +280,7 @@ mod tests {
                 lambdas: Some("0.5,1e-7".into()),
                 phis: Some("0,pi/3".into()),
                 initials: Some("OA,-7,3".into()),
+                initial_path: None,
             },
             model: ModelArgs::default(),
         })
