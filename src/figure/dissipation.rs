@@ -106,7 +106,7 @@ impl DissipationPlot<'_> {
         }
         let (a, b) = memory_window(self.points)?;
         // A little either side, so the edges of the spread show.
-        let pad = 0.06 * (b - a).max(0.2);
+        let pad = 0.1 * (b - a).max(0.2);
         Some((a - pad, b + pad))
     }
 
@@ -308,26 +308,17 @@ impl DissipationPlot<'_> {
         pts: &[Drawn<'_>],
         keep: impl Fn(&Drawn<'_>) -> bool,
     ) -> Result<(), String> {
-        let small = self.lines;
-        for mark in Mark::ORDER {
-            let at: Vec<(f64, f64)> = pts
-                .iter()
-                .filter(|p| p.2 == mark && !p.3.is_optimal() && keep(p))
-                .map(|p| (p.0, p.1))
-                .collect();
-            if at.is_empty() {
-                continue;
-            }
-            chart
-                .draw_series(at.into_iter().map(|c| glyph!(mark, c, small)))
-                .map_err(s)?
-                .label(mark.label())
-                .legend(move |c| glyph!(mark, c, small));
-        }
+        // The optimal-slip runs first, as diamonds a little larger than the
+        // state marks, so that where every run has the same W (ratchetting)
+        // the transients' marks sit inside them and both show. Runs that
+        // end or do not converge keep the state's mark.
+        let diamond = |p: &Drawn<'_>| {
+            p.3.is_optimal() && !matches!(p.2, Mark::Ended | Mark::NotConverged)
+        };
         for slipping in [false, true] {
             let at: Vec<(f64, f64)> = pts
                 .iter()
-                .filter(|p| p.3.is_optimal() && keep(p))
+                .filter(|p| diamond(p) && keep(p))
                 .filter(|p| (p.2 != Mark::Shakedown) == slipping)
                 .map(|p| (p.0, p.1))
                 .collect();
@@ -344,6 +335,22 @@ impl DissipationPlot<'_> {
                 .map_err(s)?
                 .label(label)
                 .legend(move |c| optimal_glyph!(slipping, c));
+        }
+        let small = self.lines;
+        for mark in Mark::ORDER {
+            let at: Vec<(f64, f64)> = pts
+                .iter()
+                .filter(|p| p.2 == mark && !diamond(p) && keep(p))
+                .map(|p| (p.0, p.1))
+                .collect();
+            if at.is_empty() {
+                continue;
+            }
+            chart
+                .draw_series(at.into_iter().map(|c| glyph!(mark, c, small)))
+                .map_err(s)?
+                .label(mark.label())
+                .legend(move |c| glyph!(mark, c, small));
         }
         Ok(())
     }

@@ -18,8 +18,8 @@ use crate::io::parse::{parse_angle, ParseError};
 /// Where the drawn cycle starts (`omega t` at the bottom of the axes).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum TimeOrigin {
-    /// At the first slip-free instant of the cycle (`0` when the cycle
-    /// starts without slip), else at the instant with the least slip.
+    /// In the middle of the longest slip-free stretch of the cycle, else
+    /// at the instant with the least slip ([`auto_origin`]).
     #[default]
     Auto,
     /// At this `omega t` (radians).
@@ -47,20 +47,44 @@ impl TimeOrigin {
     }
 }
 
-/// The start of the first increment of the cycle in which no node slips;
-/// when every increment has slip somewhere, the start of the one in which
-/// the fewest nodes slip.
+/// The middle of the longest slip-free stretch of the cycle (taken round
+/// the cycle, so a stretch may wrap through `2 pi`): the slip events then
+/// sit whole in the middle of the axis. When every increment has slip
+/// somewhere, the start of the one in which the fewest nodes slip.
 pub fn auto_origin(map: &SlipMap) -> f64 {
+    let n = map.rows.len();
     let slipping = |k: usize| {
-        map.rows[k]
+        map.rows[k % n]
             .directions
             .iter()
             .filter(|d| d.is_slipping())
             .count()
     };
-    (0..map.rows.len())
-        .min_by_key(|&k| (slipping(k), k))
-        .map_or(0.0, |k| map.rows[k].t0.rem_euclid(2.0 * PI))
+    if n == 0 {
+        return 0.0;
+    }
+    // The longest circular run of slip-free increments.
+    let mut best: Option<(usize, usize)> = None;
+    let mut k = 0;
+    while k < n {
+        if slipping(k) == 0 {
+            let mut len = 0;
+            while len < n && slipping(k + len) == 0 {
+                len += 1;
+            }
+            if best.is_none_or(|(_, l)| len > l) {
+                best = Some((k, len));
+            }
+            k += len.max(1);
+        } else {
+            k += 1;
+        }
+    }
+    let k = match best {
+        Some((start, len)) => (start + len / 2) % n,
+        None => (0..n).min_by_key(|&k| (slipping(k), k)).unwrap_or(0),
+    };
+    map.rows[k].t0.rem_euclid(2.0 * PI)
 }
 
 /// The pieces of `[t0, t1]` drawn on the axis `[origin, origin + 2 pi]`:
