@@ -109,10 +109,7 @@ impl RegimeMap {
     /// cells tile the plane even on an uneven grid. Returns
     /// `((lambda_lo, lambda_hi), (phi_lo, phi_hi))`.
     pub fn cell_bounds(&self, i: usize, j: usize) -> ((f64, f64), (f64, f64)) {
-        (
-            bounds(&self.load_factors, i),
-            bounds(&self.phases, j),
-        )
+        (bounds(&self.load_factors, i), bounds(&self.phases, j))
     }
 
     /// The smallest and largest positive finite `W` on the map.
@@ -136,7 +133,11 @@ fn bounds(v: &[f64], i: usize) -> (f64, f64) {
         1 => (v[0] - 0.5, v[0] + 0.5),
         n => {
             let lo = if i == 0 { gap(0, 1) } else { gap(i - 1, i) };
-            let hi = if i + 1 == n { gap(n - 2, n - 1) } else { gap(i, i + 1) };
+            let hi = if i + 1 == n {
+                gap(n - 2, n - 1)
+            } else {
+                gap(i, i + 1)
+            };
             (v[i] - lo, v[i] + hi)
         }
     }

@@ -26,10 +26,10 @@ use shakedown::analysis::sweep::Axis;
 use shakedown::analysis::sweep::{SweepSpec, CSV_HEADER};
 use shakedown::figure::data::{data_lines, parse_sweep_csv};
 use shakedown::figure::dissipation::memory_window;
+use shakedown::figure::FigureError;
 use shakedown::figure::{
     write_svg_png, DissipationPlot, MemoryPlot, RegimePlot, SlipMapPlot, SweepPoint, TimeOrigin,
 };
-use shakedown::figure::FigureError;
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::io::preset::{FigureKind, FigureSpec, Preset};
 
@@ -52,7 +52,12 @@ pub struct FigureArgs {
     #[arg(long)]
     pub resume: bool,
     /// Slip maps (fig5, fig7): omega t at the bottom of the axes. auto starts at a slip-free instant (or the one with least slip), so no slip event is cut in two; or 0, or an angle (pi/2).
-    #[arg(long, value_name = "auto|0|ANGLE", default_value = "auto", allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "auto|0|ANGLE",
+        default_value = "auto",
+        allow_hyphen_values = true
+    )]
     pub time_origin: String,
     #[command(flatten)]
     pub lists: ListArgs,
@@ -88,9 +93,8 @@ fn sweep_points(
 ) -> Result<std::result::Result<Vec<SweepPoint>, ExitCode>> {
     if let Some(from) = &args.from {
         let text = read("--from", from)?;
-        let points = parse_sweep_csv(&text).map_err(|e| {
-            anyhow!(InputError(format!("--from {}: {e}", from.display())))
-        })?;
+        let points = parse_sweep_csv(&text)
+            .map_err(|e| anyhow!(InputError(format!("--from {}: {e}", from.display()))))?;
         return Ok(Ok(points));
     }
     let jobs = spec.jobs();
@@ -160,10 +164,12 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             out_dir.display()
         )))
     })?;
-    let origin: TimeOrigin = args
-        .time_origin
-        .parse()
-        .map_err(|e| anyhow!(InputError(format!("--time-origin {}: {e}: expected auto, 0 or an angle", args.time_origin))))?;
+    let origin: TimeOrigin = args.time_origin.parse().map_err(|e| {
+        anyhow!(InputError(format!(
+            "--time-origin {}: {e}: expected auto, 0 or an angle",
+            args.time_origin
+        )))
+    })?;
     let stem = preset.name.clone();
     let file = |ext: &str| out_dir.join(format!("{stem}{ext}"));
     let title = fig
@@ -266,7 +272,7 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             let plot = RegimePlot {
                 map: &map,
                 limit: &curve,
-                title: format!("{title} ({})", spec.initials()[0].name()),
+                title: format!("{title}, transient {}", spec.initials()[0].name()),
                 paper_lines: true,
             };
             write_svg_png(&plot, &file(".svg"), &file(".png"))?;
@@ -280,8 +286,7 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                 None => {
                     let jobs = spec.jobs();
                     let bar = progress(jobs.len());
-                    let runs =
-                        memory_runs(&spec, &|| bar.inc(1)).map_err(|e| input(e.into()))?;
+                    let runs = memory_runs(&spec, &|| bar.inc(1)).map_err(|e| input(e.into()))?;
                     bar.finish_and_clear();
                     let points = memory_points(&runs);
                     write(&file(".csv"), &memory_csv(&points))?;
@@ -434,9 +439,21 @@ fn parse_memory_csv(text: &str) -> std::result::Result<Vec<MemoryPoint>, String>
         if f.len() != 8 {
             return Err(format!("line {n}: expected 8 columns: {MEMORY_HEADER}"));
         }
-        let num = |t: &str| t.parse::<f64>().map_err(|_| format!("line {n}: '{t}' is not a number"));
-        let opt = |t: &str| if t.is_empty() { Ok(None) } else { num(t).map(Some) };
-        let count = |t: &str| t.parse::<usize>().map_err(|_| format!("line {n}: '{t}' is not a count"));
+        let num = |t: &str| {
+            t.parse::<f64>()
+                .map_err(|_| format!("line {n}: '{t}' is not a number"))
+        };
+        let opt = |t: &str| {
+            if t.is_empty() {
+                Ok(None)
+            } else {
+                num(t).map(Some)
+            }
+        };
+        let count = |t: &str| {
+            t.parse::<usize>()
+                .map_err(|_| format!("line {n}: '{t}' is not a count"))
+        };
         out.push(MemoryPoint {
             load_factor: num(f[0])?,
             phase: num(f[1])?,

@@ -40,7 +40,12 @@ fn classify(e: LimitError) -> anyhow::Error {
 }
 
 pub fn limit(args: LimitArgs) -> Result<ExitCode> {
-    if let Some(phis) = args.case.phi.as_deref().filter(|t| t.contains(':') || t.contains(',')) {
+    if let Some(phis) = args
+        .case
+        .phi
+        .as_deref()
+        .filter(|t| t.contains(':') || t.contains(','))
+    {
         return curve(&args, phis);
     }
     let base = args.case.base(CaseParams::default())?;

@@ -97,7 +97,12 @@ pub struct CaseArgs {
     #[arg(long, value_name = "NAME", allow_hyphen_values = true)]
     pub initial: Option<String>,
     /// A custom transient O -> points -> A instead of --initial: load-plane points "X1,Y1;X2,Y2" (angles as in --phi, e.g. "1.75pi,-1.75pi").
-    #[arg(long, value_name = "X,Y;...", allow_hyphen_values = true, conflicts_with = "initial")]
+    #[arg(
+        long,
+        value_name = "X,Y;...",
+        allow_hyphen_values = true,
+        conflicts_with = "initial"
+    )]
     pub initial_path: Option<String>,
     #[command(flatten)]
     pub model: ModelArgs,
@@ -109,8 +114,11 @@ pub fn custom_path(
     text: &str,
     material: &shakedown::model::Material,
 ) -> Result<shakedown::model::path::Initial> {
-    let points = shakedown::io::parse::parse_points(text)
-        .map_err(|e| anyhow!(InputError(format!("--initial-path {text}: {e}: expected points X1,Y1;X2,Y2 (e.g. 1.75pi,-1.75pi)"))))?;
+    let points = shakedown::io::parse::parse_points(text).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--initial-path {text}: {e}: expected points X1,Y1;X2,Y2 (e.g. 1.75pi,-1.75pi)"
+        )))
+    })?;
     let points = points
         .into_iter()
         .map(|(x, y)| shakedown::LoadPoint::new(x, y))

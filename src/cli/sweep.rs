@@ -50,7 +50,11 @@ pub struct ListArgs {
     #[arg(long = "initial", value_name = "all|NAMES", allow_hyphen_values = true)]
     pub initials: Option<String>,
     /// A custom transient O -> points -> A: load-plane points "X1,Y1;X2,Y2" (angles as in --phi, e.g. "1.75pi,-1.75pi"). Runs alone, or after the --initial list when that is given.
-    #[arg(long = "initial-path", value_name = "X,Y;...", allow_hyphen_values = true)]
+    #[arg(
+        long = "initial-path",
+        value_name = "X,Y;...",
+        allow_hyphen_values = true
+    )]
     pub initial_path: Option<String>,
 }
 
@@ -110,8 +114,9 @@ pub fn spec(
             .map_err(|e| bad_flag("initial", &params.initial, e))?,
     };
     if let Some(text) = &lists.initial_path {
-        let material = shakedown::model::Material::new(params.friction, params.poisson, params.plane)
-            .map_err(|e| case_error(CaseError::Param(e), |f| model.given(f)))?;
+        let material =
+            shakedown::model::Material::new(params.friction, params.poisson, params.plane)
+                .map_err(|e| case_error(CaseError::Param(e), |f| model.given(f)))?;
         let custom = super::custom_path(text, &material)?;
         if lists.initials.is_none() {
             initials.clear();

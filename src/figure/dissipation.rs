@@ -214,7 +214,10 @@ impl DissipationPlot<'_> {
                 .map_err(s)?
                 .label("range enlarged in (b)")
                 .legend(|(x, y)| {
-                    Rectangle::new([(x - 12, y - 6), (x + 12, y + 6)], RGBColor(225, 225, 225).filled())
+                    Rectangle::new(
+                        [(x - 12, y - 6), (x + 12, y + 6)],
+                        RGBColor(225, 225, 225).filled(),
+                    )
                 });
         }
 
@@ -312,9 +315,8 @@ impl DissipationPlot<'_> {
         // state marks, so that where every run has the same W (ratchetting)
         // the transients' marks sit inside them and both show. Runs that
         // end or do not converge keep the state's mark.
-        let diamond = |p: &Drawn<'_>| {
-            p.3.is_optimal() && !matches!(p.2, Mark::Ended | Mark::NotConverged)
-        };
+        let diamond =
+            |p: &Drawn<'_>| p.3.is_optimal() && !matches!(p.2, Mark::Ended | Mark::NotConverged);
         for slipping in [false, true] {
             let at: Vec<(f64, f64)> = pts
                 .iter()

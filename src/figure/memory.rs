@@ -112,4 +112,3 @@ impl Drawing for MemoryPlot<'_> {
         legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
 }
-

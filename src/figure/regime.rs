@@ -27,7 +27,7 @@ pub struct RegimePlot<'a> {
 
 /// `colour` darkened towards its own deep shade by `t` in `[0, 1]`.
 fn shade(c: RGBColor, t: f64) -> RGBColor {
-    let t = t.clamp(0.0, 1.0) * 0.6;
+    let t = t.clamp(0.0, 1.0) * 0.45;
     let f = |v: u8| (f64::from(v) * (1.0 - t)).round() as u8;
     RGBColor(f(c.0), f(c.1), f(c.2))
 }
@@ -102,12 +102,26 @@ impl Drawing for RegimePlot<'_> {
         if self.paper_lines {
             let style = BLACK.mix(0.55).stroke_width(1);
             let lines: [(&str, Vec<(f64, f64)>, (f64, f64)); 3] = [
-                ("Fig. 3", vec![(x0, 0.0), (x1, 0.0)], (x0 + 0.01 * (x1 - x0), 0.015)),
-                ("Fig. 6", vec![(5.1, y0), (5.1, y1)], (5.12, y1 - 0.04 * (y1 - y0))),
-                ("Fig. 8", vec![(x0, 0.5), (x1, 0.5)], (x0 + 0.01 * (x1 - x0), 0.515)),
+                (
+                    "Fig. 3",
+                    vec![(x0, 0.0), (x1, 0.0)],
+                    (x0 + 0.01 * (x1 - x0), 0.015),
+                ),
+                (
+                    "Fig. 6",
+                    vec![(5.1, y0), (5.1, y1)],
+                    (5.12, y1 - 0.04 * (y1 - y0)),
+                ),
+                (
+                    "Fig. 8",
+                    vec![(x0, 0.5), (x1, 0.5)],
+                    (x0 + 0.01 * (x1 - x0), 0.515),
+                ),
             ];
             for (name, pts, at) in lines {
-                let inside = pts.iter().all(|p| p.0 >= x0 && p.0 <= x1 && p.1 >= y0 && p.1 <= y1);
+                let inside = pts
+                    .iter()
+                    .all(|p| p.0 >= x0 && p.0 <= x1 && p.1 >= y0 && p.1 <= y1);
                 if !inside {
                     continue;
                 }
@@ -178,8 +192,7 @@ impl Drawing for RegimePlot<'_> {
             "Dotted: the lines of the".to_string(),
             "paper's Figs. 3, 6 and 8.".to_string(),
         ] {
-            key.draw(&Text::new(line, (10, y), font(14.0)))
-                .map_err(s)?;
+            key.draw(&Text::new(line, (10, y), font(14.0))).map_err(s)?;
             y += 20;
         }
         Ok(())

@@ -152,7 +152,9 @@ impl Pattern {
     {
         let w = style.stroke_width as i32;
         match self {
-            Pattern::Solid => chart.draw_series(LineSeries::new(points, style)).map(|_| ()),
+            Pattern::Solid => chart
+                .draw_series(LineSeries::new(points, style))
+                .map(|_| ()),
             Pattern::Dashed => chart
                 .draw_series(DashedLineSeries::new(points, 4 * w + 2, 3 * w, style))
                 .map(|_| ()),
@@ -179,7 +181,6 @@ impl Pattern {
             Pattern::LongDashed => [(-14, 0), (0, 0), (5, 14), (14, 14)],
         }
     }
-
 }
 
 /// A legend sample of `$pattern` ([`Pattern`]) in `$style` at `$at`: four
@@ -285,9 +286,9 @@ impl Mark {
     pub(crate) fn map_colour(self) -> RGBColor {
         match self {
             Mark::Shakedown => RGBColor(235, 235, 235),
-            Mark::CyclicSlip => RGBColor(244, 165, 150),
-            Mark::Ratchetting | Mark::Monotonic => RGBColor(150, 180, 240),
-            Mark::NonMonotonic => RGBColor(190, 150, 215),
+            Mark::CyclicSlip => RGBColor(240, 130, 110),
+            Mark::Ratchetting | Mark::Monotonic => RGBColor(110, 160, 240),
+            Mark::NonMonotonic => RGBColor(175, 125, 215),
             Mark::Ended => RGBColor(110, 110, 110),
             Mark::NotConverged => RGBColor(250, 210, 120),
         }
