@@ -288,7 +288,7 @@ fn figure_from_csv_redraws_the_same_plot_without_running() {
         ]
         .concat(),
     );
-    assert!(out.contains("12 runs"), "{out}");
+    assert!(out.contains("9 runs"), "{out}");
     assert_eq!(
         std::fs::read_to_string(again.join("fig3.svg")).unwrap(),
         svg
