@@ -25,6 +25,9 @@ pub struct RegimePlot<'a> {
     pub paper_lines: bool,
 }
 
+/// A paper figure's line on the map: name, ends, where its label goes.
+type PaperLine = (&'static str, Vec<(f64, f64)>, (f64, f64));
+
 /// `colour` darkened towards its own deep shade by `t` in `[0, 1]`.
 fn shade(c: RGBColor, t: f64) -> RGBColor {
     let t = t.clamp(0.0, 1.0) * 0.45;
@@ -82,7 +85,8 @@ impl Drawing for RegimePlot<'_> {
                 }
                 let t = if mark == Mark::Shakedown
                     || mark == Mark::Ended
-                    || !(cell.dissipation > 0.0)
+                    || cell.dissipation.is_nan()
+                    || cell.dissipation <= 0.0
                     || lhi <= llo
                 {
                     0.0
@@ -101,7 +105,7 @@ impl Drawing for RegimePlot<'_> {
         // The paper's figures as lines of the plane.
         if self.paper_lines {
             let style = BLACK.mix(0.55).stroke_width(1);
-            let lines: [(&str, Vec<(f64, f64)>, (f64, f64)); 3] = [
+            let lines: [PaperLine; 3] = [
                 (
                     "Fig. 3",
                     vec![(x0, 0.0), (x1, 0.0)],
