@@ -31,14 +31,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let spec = SweepSpec::over(&case, &lists)?;
     let rows = spec.run(&spec.jobs(), &|_| {}, &AtomicBool::new(false));
-    println!("{:>6}  {:>8}  {:<28} {:>12}", "lambda", "initial", "state", "W");
+    println!(
+        "{:>6}  {:>8}  {:<28} {:>12}",
+        "lambda", "initial", "state", "W"
+    );
     for row in &rows {
         match &row.outcome {
             Ok(s) => println!(
                 "{:>6}  {:>8}  {:<28} {:>12.4e}",
                 row.job.load_factor, row.initial, s.state, s.dissipation
             ),
-            Err(e) => println!("{:>6}  {:>8}  failed: {e}", row.job.load_factor, row.initial),
+            Err(e) => println!(
+                "{:>6}  {:>8}  failed: {e}",
+                row.job.load_factor, row.initial
+            ),
         }
     }
     Ok(())

@@ -80,7 +80,6 @@
 //! assert_eq!(summary.state, shakedown::SteadyState::Shakedown);
 //! ```
 
-
 #![warn(missing_docs)]
 
 pub mod analysis;

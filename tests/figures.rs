@@ -242,3 +242,232 @@ fn fig7_point_c_one_zone_splits_travels_and_merges() {
     assert!(holds(formed, n, -0.75 * PI), "formed at {formed:?} of {n}");
     assert!(holds(merged, n, 0.25 * PI), "merged at {merged:?} of {n}");
 }
+
+const TINY: [&str; 4] = ["--nodes", "32", "--steps", "200"];
+
+fn run_ok(args: &[&str]) -> String {
+    let o = shakedown(args);
+    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    stdout(&o)
+}
+
+#[test]
+fn figure_from_csv_redraws_the_same_plot_without_running() {
+    let dir = scratch("fig3_from");
+    let d = dir.to_str().unwrap();
+    run_ok(
+        &[
+            &[
+                "figure",
+                "fig3",
+                "--out",
+                d,
+                "--lambda",
+                "4.5,5,6.5",
+                "--initial",
+                "OA,7,-7,optimal",
+            ][..],
+            &TINY,
+        ]
+        .concat(),
+    );
+    let svg = std::fs::read_to_string(dir.join("fig3.svg")).unwrap();
+    let again = scratch("fig3_from_again");
+    let csv = dir.join("fig3.csv");
+    let out = run_ok(
+        &[
+            &[
+                "figure",
+                "fig3",
+                "--from",
+                csv.to_str().unwrap(),
+                "--out",
+                again.to_str().unwrap(),
+            ][..],
+            &TINY,
+        ]
+        .concat(),
+    );
+    assert!(out.contains("9 runs"), "{out}");
+    assert_eq!(
+        std::fs::read_to_string(again.join("fig3.svg")).unwrap(),
+        svg
+    );
+    assert!(!again.join("fig3.csv").exists(), "--from writes no CSV");
+    // The optimal-slip runs have their own legend entry, the dashed
+    // lambda_2 line a dashed sample.
+    assert!(
+        svg.contains("optimal slip of the λ₂ programme"),
+        "no optimal legend"
+    );
+    assert!(svg.contains("(b) the memory"), "no log panel");
+}
+
+#[test]
+fn figure_resume_finishes_an_interrupted_csv() {
+    let dir = scratch("fig9_resume");
+    let d = dir.to_str().unwrap();
+    let args = [
+        &[
+            "figure",
+            "fig9",
+            "--out",
+            d,
+            "--lambda",
+            "5,6",
+            "--phi",
+            "0:pi:pi/4",
+        ][..],
+        &TINY,
+    ]
+    .concat();
+    run_ok(&args);
+    let full = std::fs::read_to_string(dir.join("fig9.csv")).unwrap();
+    // Cut the file after three rows and half of the fourth.
+    let mut cut: Vec<&str> = full.split_inclusive('\n').take(5).collect();
+    let half = &cut[4][..cut[4].len() / 2];
+    cut[4] = half;
+    std::fs::write(dir.join("fig9.csv"), cut.concat()).unwrap();
+    let out = shakedown(&[&args[..], &["--resume"]].concat());
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("resuming: 3 of 10"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(std::fs::read_to_string(dir.join("fig9.csv")).unwrap(), full);
+    check_plot_files(&dir, "fig9");
+}
+
+#[test]
+fn regime_map_writes_csv_svg_png_and_the_limit_curve() {
+    let dir = scratch("regime");
+    let d = dir.to_str().unwrap();
+    run_ok(
+        &[
+            &[
+                "figure",
+                "regime",
+                "--out",
+                d,
+                "--lambda",
+                "4.5,5.5,7",
+                "--phi",
+                "0,pi/2",
+            ][..],
+            &TINY,
+        ]
+        .concat(),
+    );
+    check_plot_files(&dir, "regime");
+    let (header, rows) = read_csv(&dir.join("regime.csv"));
+    assert_eq!(header.join(","), shakedown::analysis::sweep::CSV_HEADER);
+    assert_eq!(rows.len(), 6);
+    let (h, curve) = read_csv(&dir.join("regime_limit.csv"));
+    assert_eq!(h.join(","), "phi,lambda_2,lower_bound");
+    assert_eq!(curve.len(), 2);
+    let l2: f64 = curve[0][1].parse().unwrap();
+    assert!((l2 - 4.9).abs() < 0.05, "{l2}");
+    // Two transients make no regime map.
+    let o = shakedown(&["figure", "regime", "--out", d, "--initial", "OA,7,-7"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+#[test]
+fn limit_prints_lambda_2_against_phi() {
+    let dir = scratch("limit_curve");
+    let file = dir.join("curve.csv");
+    let out = run_ok(&[
+        "limit",
+        "--phi",
+        "0:pi:pi/2",
+        "--nodes",
+        "32",
+        "--samples",
+        "16",
+        "--out",
+        file.to_str().unwrap(),
+    ]);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], "phi,lambda_2,lower_bound");
+    assert_eq!(lines.len(), 4, "{out}");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), out);
+}
+
+#[test]
+fn slip_map_time_origin_option() {
+    let dir = scratch("fig7_origin");
+    let d = dir.to_str().unwrap();
+    let out = run_ok(
+        &[
+            &["figure", "fig7", "--out", d, "--time-origin", "0"][..],
+            &TINY,
+        ]
+        .concat(),
+    );
+    assert!(out.contains("drawn from omega t = 0.0000 pi"), "{out}");
+    let o = shakedown(&["figure", "fig7", "--out", d, "--time-origin", "soon"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(stderr(&o).lines().count(), 1, "{}", stderr(&o));
+}
+
+#[test]
+fn custom_path_through_7_minus_7_is_the_paper_point() {
+    let via = shakedown::model::path::Initial::Via { a: 7, b: -7 };
+    let params = CaseParams {
+        nodes: 32,
+        steps: 200,
+        load_factor: 5.5,
+        ..CaseParams::default()
+    };
+    let mut case = Case::from_params(&params).unwrap();
+    case.initial = via;
+    let a = case.stepper().run_to_steady().unwrap();
+    let points = shakedown::io::parse::parse_points("1.75pi,-1.75pi").unwrap();
+    let points = points
+        .into_iter()
+        .map(|(x, y)| shakedown::LoadPoint::new(x, y))
+        .collect();
+    case.initial = shakedown::model::path::Initial::custom_for(points, &case.material).unwrap();
+    let b = case.stepper().run_to_steady().unwrap();
+    assert_eq!(a, b);
+    // The same from the command line.
+    let flags = [
+        "--lambda", "5.5", "--nodes", "32", "--steps", "200", "--json",
+    ];
+    let via = run_ok(&[&["run", "--initial", "7,-7"][..], &flags].concat());
+    let path = run_ok(&[&["run", "--initial-path", "1.75pi,-1.75pi"][..], &flags].concat());
+    let w = |s: &str| {
+        let v: serde_json::Value = serde_json::from_str(s).unwrap();
+        v["dissipation"].clone()
+    };
+    assert_eq!(w(&via), w(&path));
+}
+
+#[test]
+fn bad_custom_points_are_one_line_errors() {
+    for bad in ["0,7", "0,nan", "13,0", "1,2;3", ""] {
+        let o = shakedown(&["run", "--initial-path", bad, "--nodes", "32"]);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert_eq!(e.lines().count(), 1, "{bad}: {e}");
+        assert!(e.contains("--initial-path"), "{bad}: {e}");
+    }
+    let e = stderr(&shakedown(&["run", "--initial-path", "0,7"]));
+    assert!(e.contains("gross slip"), "{e}");
+    let e = stderr(&shakedown(&["run", "--initial-path", "13,0"]));
+    assert!(e.contains("separat"), "{e}");
+    // A sweep runs the custom path (named by its points in the CSV).
+    let o = run_ok(&[
+        "sweep",
+        "--lambda",
+        "5",
+        "--initial-path",
+        "1.75pi,-1.75pi",
+        "--nodes",
+        "32",
+        "--steps",
+        "200",
+    ]);
+    assert!(o.contains("\"path:1.75pi,-1.75pi\""), "{o}");
+}

@@ -5,7 +5,9 @@
 
 pub mod case;
 pub mod limit;
+pub mod limit_curve;
 pub mod memory;
+pub mod regime;
 pub mod slip_map;
 pub mod steady;
 pub mod sweep;

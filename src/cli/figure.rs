@@ -1,5 +1,11 @@
 //! `shakedown figure NAME --out DIR`: run a preset and write its data as
-//! CSV and its plot as SVG and PNG.
+//! CSV and its plot as SVG and PNG; `--from NAME.csv` redraws from the CSV
+//! without running, `--resume` continues an interrupted sweep figure.
+
+/// Samples of an elliptical cycle for each point of the regime map's
+/// `lambda_2(phi)` curve: within `1 - cos(pi/32)` (0.5 %) of the limit, and
+/// a quarter of the time of the default 64 (25 phases in seconds).
+const CURVE_SAMPLES: usize = 32;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -9,37 +15,62 @@ use anyhow::{anyhow, Result};
 use clap::Args;
 use shakedown::analysis::case::Case;
 use shakedown::analysis::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
+use shakedown::analysis::limit_curve::{curve_csv, limit_curve, parse_curve_csv};
 use shakedown::analysis::memory::{
-    memory_csv, memory_points, memory_runs, ratchetting_onset, MemoryError,
+    memory_csv, memory_points, memory_runs, ratchetting_onset, MemoryError, MemoryPoint,
+    MEMORY_HEADER,
 };
+use shakedown::analysis::regime::{RegimeCell, RegimeMap};
 use shakedown::analysis::slip_map::{slip_map, SlipMap, SlipMapError};
 use shakedown::analysis::sweep::Axis;
 use shakedown::analysis::sweep::{SweepSpec, CSV_HEADER};
-use shakedown::figure::draw::{write_svg_png, DissipationPlot, MemoryPlot, SlipMapPlot};
+use shakedown::figure::data::{data_lines, parse_sweep_csv};
+use shakedown::figure::dissipation::memory_window;
 use shakedown::figure::FigureError;
+use shakedown::figure::{
+    write_svg_png, DissipationPlot, Drawing, MemoryPlot, RegimePlot, SlipMapPlot, SweepPoint,
+    TimeOrigin,
+};
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::io::preset::{FigureKind, FigureSpec, Preset};
 
 use shakedown::io::csv::{case_metadata, slip_csv, sweep_metadata};
 use shakedown::io::output::{check_file_stem, is_nonempty_file, temp_path};
 
-use super::batch::{ctrl_c, lock_output, refuse_input_as_output, write_file, Output};
+use super::batch::{
+    ctrl_c, lock_output, refuse_input_as_output, report_interrupt, write_file, Output, INTERRUPTED,
+};
 use super::sweep::{job_key, progress, row_key, spec, warn_failures, ListArgs};
 use super::{load_preset, InputError, ModelArgs};
 
+/// The flags of `shakedown figure`.
 #[derive(Debug, Args)]
 pub struct FigureArgs {
-    /// The figure: a built-in preset (fig3 ... fig9, see `shakedown presets`) or a path to a .toml file.
+    /// The figure: a built-in preset (fig3 ... fig9, regime; see `shakedown presets`) or a path to a .toml file.
     #[arg(value_name = "NAME|FILE")]
     pub name: String,
-    /// Directory to write NAME.csv, NAME.svg and NAME.png into (created if missing).
+    /// Directory to write NAME.csv, NAME.svg and NAME.png into (created if missing); with --from, the CSV's directory by default.
     #[arg(long, value_name = "DIR")]
-    pub out: PathBuf,
+    pub out: Option<PathBuf>,
     /// Replace the figure's files if they exist (without it, an existing
     /// NAME.csv, NAME.svg or NAME.png is refused and left untouched). The
     /// old files stay until the new ones are complete.
     #[arg(long)]
     pub force: bool,
+    /// Redraw from a CSV this figure wrote (NAME.csv), without running anything. The model flags (e.g. --nodes) only matter for lambda_2.
+    #[arg(long, value_name = "FILE.csv", conflicts_with = "resume")]
+    pub from: Option<PathBuf>,
+    /// Continue an interrupted figure: keep the complete rows of DIR/NAME.csv, run the rest, then draw (sweep figures and the regime map).
+    #[arg(long)]
+    pub resume: bool,
+    /// Slip maps (fig5, fig7): omega t at the bottom of the axes. auto starts at a slip-free instant (or the one with least slip), so no slip event is cut in two; or 0, or an angle (pi/2).
+    #[arg(
+        long,
+        value_name = "auto|0|ANGLE",
+        default_value = "auto",
+        allow_hyphen_values = true
+    )]
+    pub time_origin: String,
     #[command(flatten)]
     pub lists: ListArgs,
     #[command(flatten)]
@@ -56,16 +87,8 @@ const SUFFIXES: [&str; 5] = [".csv", "_limit.csv", "_load.csv", ".svg", ".png"];
 
 /// Draw the plot into temporary files beside `svg` and `png`, then rename
 /// them into place: an interrupted or failed drawing leaves the old ones.
-fn write_plot<D: shakedown::figure::draw::Drawing>(plot: &D, svg: &Path, png: &Path) -> Result<()> {
-    let temp = |p: &Path| {
-        let name = p.file_name().map(|n| n.to_string_lossy().into_owned());
-        p.with_file_name(format!(
-            ".tmp-{}-{}",
-            std::process::id(),
-            name.unwrap_or_default()
-        ))
-    };
-    let (tsvg, tpng) = (temp(svg), temp(png));
+fn write_plot<D: Drawing>(plot: &D, svg: &Path, png: &Path) -> Result<()> {
+    let (tsvg, tpng) = (temp_path(svg), temp_path(png));
     let result = write_svg_png(plot, &tsvg, &tpng)
         .map_err(anyhow::Error::from)
         .and_then(|()| {
@@ -78,6 +101,103 @@ fn write_plot<D: shakedown::figure::draw::Drawing>(plot: &D, svg: &Path, png: &P
         let _ = std::fs::remove_file(&tpng);
     }
     result
+}
+
+fn read(flag: &str, path: &Path) -> Result<String> {
+    std::fs::read_to_string(path).map_err(|e| {
+        anyhow!(InputError(format!(
+            "{flag} {}: cannot read it: {e}",
+            path.display()
+        )))
+    })
+}
+
+/// A sweep figure's points: from `--from`, or by running the sweep (row by
+/// row into the CSV, resumable) and reading the CSV back, so that a redraw
+/// from the CSV draws exactly the same figure.
+///
+/// With `replace` (an existing figure and `--force`), the table is written
+/// beside the old one and renamed over it only once it is complete, so an
+/// interrupted run leaves the figure made before whole.
+fn sweep_points(
+    args: &FigureArgs,
+    spec: &SweepSpec,
+    csv_path: &Path,
+    replace: bool,
+) -> Result<std::result::Result<Vec<SweepPoint>, ExitCode>> {
+    if let Some(from) = &args.from {
+        let text = read("--from", from)?;
+        let points = parse_sweep_csv(&text)
+            .map_err(|e| anyhow!(InputError(format!("--from {}: {e}", from.display()))))?;
+        return Ok(Ok(points));
+    }
+    let jobs = spec.jobs();
+    // Rows stream to the CSV in job order, one flushed line each, so that
+    // Ctrl-C leaves a file of complete rows (a prefix of the full table)
+    // that --resume continues.
+    let keys: Vec<String> = jobs.iter().map(|j| job_key(spec, j)).collect();
+    let target = if replace {
+        temp_path(csv_path)
+    } else {
+        csv_path.to_path_buf()
+    };
+    let meta = sweep_metadata(spec);
+    let mut out = Output::open(
+        Some(&target),
+        args.resume,
+        replace || args.force,
+        &meta,
+        CSV_HEADER,
+        &keys,
+        row_key,
+    )?;
+    let todo = &jobs[out.kept..];
+    if out.kept > 0 {
+        eprintln!(
+            "resuming: {} of {} runs are already in {}",
+            out.kept,
+            jobs.len(),
+            out.describe()
+        );
+    }
+    let mut rows = Vec::with_capacity(todo.len());
+    if !todo.is_empty() {
+        let interrupt = ctrl_c()?;
+        let bar = progress(jobs.len());
+        bar.set_position(out.kept as u64);
+        bar.reset_eta();
+        let result = spec.run_ordered(todo, interrupt, |row| {
+            out.line(&row.csv_line())?;
+            bar.inc(1);
+            rows.push(row);
+            anyhow::Ok(())
+        });
+        bar.finish_and_clear();
+        if !result?.is_complete() {
+            if replace {
+                drop(out);
+                let _ = std::fs::remove_file(&target);
+                eprintln!(
+                    "interrupted: {} of {} runs were done; the figure made before is unchanged",
+                    rows.len(),
+                    jobs.len()
+                );
+                return Ok(Err(ExitCode::from(INTERRUPTED)));
+            }
+            eprintln!("no plot was drawn");
+            return Ok(Err(report_interrupt(&out, jobs.len())));
+        }
+        warn_failures(&rows);
+    }
+    drop(out);
+    if replace {
+        std::fs::rename(&target, csv_path)
+            .map_err(|e| anyhow!("--out: cannot replace {}: {e}", csv_path.display()))?;
+    }
+    let text = read("--out", csv_path)?;
+    let points = parse_sweep_csv(&text)
+        .map_err(|e| anyhow!("{}: cannot read it back: {e}", csv_path.display()))?;
+    Ok(Ok(points))
 }
 
 /// Run `shakedown figure`.
@@ -107,107 +227,87 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             }
         }
     }
-    std::fs::create_dir_all(&args.out).map_err(|e| {
+    let out_dir = match (&args.out, &args.from) {
+        (Some(d), _) => d.clone(),
+        (None, Some(f)) => f
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+        (None, None) => {
+            return Err(anyhow!(InputError(
+                "figure: --out DIR is needed (or --from FILE.csv to redraw)".into()
+            )))
+        }
+    };
+    std::fs::create_dir_all(&out_dir).map_err(|e| {
         anyhow!(InputError(format!(
             "--out {}: cannot create the directory: {e}",
-            args.out.display()
+            out_dir.display()
         )))
     })?;
-    let file = |ext: &str| args.out.join(format!("{stem}{ext}"));
+    let origin: TimeOrigin = args.time_origin.parse().map_err(|e| {
+        anyhow!(InputError(format!(
+            "--time-origin {}: {e}: expected auto, 0 or an angle",
+            args.time_origin
+        )))
+    })?;
+    let file = |ext: &str| out_dir.join(format!("{stem}{ext}"));
     let preset_path = Path::new(&args.name);
-    for ext in SUFFIXES {
-        if preset_path.exists() {
+    if preset_path.exists() {
+        for ext in SUFFIXES {
             refuse_input_as_output("--out", &file(ext), &[("preset file", preset_path)])?;
         }
     }
+    let redraw = args.from.is_some();
+    // A figure made before is replaced only when the user asks: with
+    // --force, or by redrawing (--from) or continuing (--resume) it.
     let existing: Vec<PathBuf> = SUFFIXES
         .iter()
         .map(|e| file(e))
         .filter(|p| is_nonempty_file(p))
         .collect();
-    if !existing.is_empty() && !args.force {
+    if !existing.is_empty() && !args.force && !args.resume && !redraw {
         return Err(anyhow!(InputError(format!(
-            "--out {}: {} exists (a figure made before): add --force to replace the figure's files",
-            args.out.display(),
+            "--out {}: {} exists (a figure made before): add --force to replace the figure's files, --resume to continue it or --from to redraw it",
+            out_dir.display(),
             existing[0].display()
         ))));
     }
+    let replace = !existing.is_empty() && args.force && !args.resume && !redraw;
     // One writer per figure: the lock is DIR/NAME.lock.
-    let _lock = lock_output("--out", &args.out.join(&stem))?;
+    let _lock = lock_output("--out", &out_dir.join(&stem))?;
     let title = fig
         .title
         .clone()
         .unwrap_or_else(|| preset.description.clone());
     let started = Instant::now();
     let mut written = Vec::new();
+    if args.resume && !matches!(fig.kind, FigureKind::Dissipation | FigureKind::Regime) {
+        eprintln!("note: --resume applies to sweep figures; {stem} runs in full");
+    }
     match fig.kind {
         FigureKind::Dissipation => {
             let spec = sweep_spec(&args, &preset)?;
-            let limit = limit_of(&fig, &spec)?;
-            let jobs = spec.jobs();
-            // Rows stream to the CSV in job order, one flushed line each, so
-            // that Ctrl-C leaves a file of complete rows (a prefix of the
-            // full table) and no half-drawn plot.
-            let keys: Vec<String> = jobs.iter().map(|j| job_key(&spec, j)).collect();
-            // A figure made before stays whole until the new table is.
-            let csv_path = if existing.is_empty() {
-                file(".csv")
-            } else {
-                temp_path(&file(".csv"))
+            let points = match sweep_points(&args, &spec, &file(".csv"), replace)? {
+                Ok(p) => p,
+                Err(code) => return Ok(code),
             };
-            let meta = sweep_metadata(&spec);
-            let mut out = Output::open(
-                Some(&csv_path),
-                false,
-                true,
-                &meta,
-                CSV_HEADER,
-                &keys,
-                row_key,
-            )?;
-            let interrupt = ctrl_c()?;
-            let bar = progress(jobs.len());
-            let mut rows = Vec::with_capacity(jobs.len());
-            let result = spec.run_ordered(&jobs, interrupt, |row| {
-                out.line(&row.csv_line())?;
-                bar.inc(1);
-                rows.push(row);
-                anyhow::Ok(())
-            });
-            bar.finish_and_clear();
-            drop(out);
-            if !result?.is_complete() {
-                if csv_path != file(".csv") {
-                    let _ = std::fs::remove_file(&csv_path);
-                    eprintln!(
-                        "interrupted: {} of {} runs were done; the figure made before is unchanged",
-                        rows.len(),
-                        jobs.len()
-                    );
-                    return Ok(ExitCode::from(super::batch::INTERRUPTED));
-                }
-                eprintln!(
-                    "interrupted: {} of {} runs are in {} (complete rows only); no plot was drawn",
-                    rows.len(),
-                    jobs.len(),
-                    csv_path.display()
-                );
-                return Ok(ExitCode::from(super::batch::INTERRUPTED));
+            if !redraw {
+                written.push(file(".csv"));
             }
-            warn_failures(&rows);
-            if csv_path != file(".csv") {
-                std::fs::rename(&csv_path, file(".csv")).map_err(|e| {
-                    anyhow!("--out: cannot replace {}: {e}", file(".csv").display())
-                })?;
-            }
-            written.push(file(".csv"));
+            let limit = limit_of(&fig, &spec, &points)?;
             if let Some(l) = &limit {
-                write_limit(&file("_limit.csv"), l, &spec)?;
-                written.push(file("_limit.csv"));
+                if !redraw {
+                    write_limit(&file("_limit.csv"), l, &spec)?;
+                    written.push(file("_limit.csv"));
+                }
                 outln!("lambda_2 = {:.6} (linear programme)", l.load_factor);
             }
+            if let Some((l1, l3)) = memory_window(&points) {
+                outln!("the transients disagree from lambda = {l1} to lambda_3 = {l3}");
+            }
             let plot = DissipationPlot {
-                rows: &rows,
+                points: &points,
                 axis: fig.axis,
                 ratchetting: fig.ratchetting,
                 lines: fig.lines,
@@ -215,23 +315,99 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                 limit: limit.as_ref().map(|l| l.load_factor),
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
-            outln!("{} runs", rows.len());
+            outln!("{} runs", points.len());
+        }
+        FigureKind::Regime => {
+            let spec = sweep_spec(&args, &preset)?;
+            if spec.initials().len() != 1 {
+                return Err(anyhow!(InputError(format!(
+                    "figure {stem}: the regime map is for one transient, but {} are given: pick one with --initial",
+                    spec.initials().len()
+                ))));
+            }
+            let points = match sweep_points(&args, &spec, &file(".csv"), replace)? {
+                Ok(p) => p,
+                Err(code) => return Ok(code),
+            };
+            if !redraw {
+                written.push(file(".csv"));
+            }
+            let map = RegimeMap::from_cells(points.iter().map(|p| {
+                (
+                    p.load_factor,
+                    p.phase,
+                    RegimeCell {
+                        state: p.state,
+                        dissipation: p.dissipation,
+                    },
+                )
+            }));
+            let curve_file = match &args.from {
+                Some(f) => f.with_file_name(format!("{stem}_limit.csv")),
+                None => file("_limit.csv"),
+            };
+            let stored = if redraw {
+                std::fs::read_to_string(&curve_file)
+                    .ok()
+                    .and_then(|t| parse_curve_csv(&t))
+            } else {
+                None
+            };
+            let curve = match stored {
+                Some(c) => c,
+                None if fig.limit => {
+                    let pts = limit_curve(
+                        &spec.material(),
+                        spec.center(),
+                        spec.slope(),
+                        map.phases(),
+                        &spec.disc(),
+                        CURVE_SAMPLES,
+                    );
+                    let mut meta = sweep_metadata(&spec);
+                    meta.set("table", "limit-curve");
+                    meta.set("samples", CURVE_SAMPLES);
+                    write(&curve_file, &(meta.render() + &curve_csv(&pts)))?;
+                    written.push(curve_file.clone());
+                    pts.iter()
+                        .filter_map(|p| p.limit.as_ref().ok().map(|l| (p.phase, l.0)))
+                        .collect()
+                }
+                None => Vec::new(),
+            };
+            let plot = RegimePlot {
+                map: &map,
+                limit: &curve,
+                title: format!("{title}, transient {}", spec.initials()[0].name()),
+                paper_lines: true,
+            };
+            write_plot(&plot, &file(".svg"), &file(".png"))?;
+            outln!("{} runs", points.len());
         }
         FigureKind::Memory => {
             let spec = sweep_spec(&args, &preset)?;
-            let limit = limit_of(&fig, &spec)?;
-            let jobs = spec.jobs();
-            let bar = progress(jobs.len());
-            let runs = memory_runs(&spec, &|| bar.inc(1)).map_err(|e| input(e.into()))?;
-            bar.finish_and_clear();
-            let points = memory_points(&runs);
-            let mut meta = sweep_metadata(&spec);
-            meta.set("table", "memory");
-            write(&file(".csv"), &(meta.render() + &memory_csv(&points)))?;
-            written.push(file(".csv"));
+            let points = match &args.from {
+                Some(f) => parse_memory_csv(&read("--from", f)?)
+                    .map_err(|e| anyhow!(InputError(format!("--from {}: {e}", f.display()))))?,
+                None => {
+                    let jobs = spec.jobs();
+                    let bar = progress(jobs.len());
+                    let runs = memory_runs(&spec, &|| bar.inc(1)).map_err(|e| input(e.into()))?;
+                    bar.finish_and_clear();
+                    let points = memory_points(&runs);
+                    let mut meta = sweep_metadata(&spec);
+                    meta.set("table", "memory");
+                    write(&file(".csv"), &(meta.render() + &memory_csv(&points)))?;
+                    written.push(file(".csv"));
+                    points
+                }
+            };
+            let limit = limit_of(&fig, &spec, &[])?;
             if let Some(l) = &limit {
-                write_limit(&file("_limit.csv"), l, &spec)?;
-                written.push(file("_limit.csv"));
+                if !redraw {
+                    write_limit(&file("_limit.csv"), l, &spec)?;
+                    written.push(file("_limit.csv"));
+                }
                 outln!("lambda_2 = {:.6} (linear programme)", l.load_factor);
             }
             if let Some(l3) = ratchetting_onset(&points) {
@@ -243,30 +419,35 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                 limit: limit.as_ref().map(|l| l.load_factor),
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
-            outln!("{} runs", runs.len());
         }
         FigureKind::SlipMap => {
+            if redraw {
+                eprintln!("note: a slip map is one run (under a second): {stem} is recomputed, not read from --from");
+            }
             let case = single_case(&args, &preset)?;
             let map = slip_map(&case).map_err(|e| input(e.into()))?;
-            let meta = case_metadata("slip-map", &case, &case.initial.name()).render();
-            write(&file(".csv"), &(meta.clone() + &map.csv()))?;
-            write(&file("_load.csv"), &(meta + &map.load_csv()))?;
-            written.push(file(".csv"));
-            written.push(file("_load.csv"));
+            if !redraw {
+                let meta = case_metadata("slip-map", &case, &case.initial.name()).render();
+                write(&file(".csv"), &(meta.clone() + &map.csv()))?;
+                write(&file("_load.csv"), &(meta + &map.load_csv()))?;
+                written.push(file(".csv"));
+                written.push(file("_load.csv"));
+            }
             describe(&map)?;
-            let plot = SlipMapPlot { map: &map, title };
+            let plot = SlipMapPlot {
+                map: &map,
+                title,
+                origin,
+            };
+            outln!(
+                "drawn from omega t = {:.4} pi",
+                origin.resolve(&map) / std::f64::consts::PI
+            );
             write_plot(&plot, &file(".svg"), &file(".png"))?;
         }
     }
     written.push(file(".svg"));
     written.push(file(".png"));
-    // Files of a figure made before that this one does not have.
-    for ext in SUFFIXES {
-        let p = file(ext);
-        if !written.contains(&p) && existing.contains(&p) {
-            let _ = std::fs::remove_file(&p);
-        }
-    }
     for w in &written {
         outln!("wrote {}", w.display());
     }
@@ -295,16 +476,24 @@ fn sweep_spec(args: &FigureArgs, preset: &Preset) -> Result<SweepSpec> {
     )
 }
 
-/// `lambda_2` when the figure marks it and the sweep has one phase.
-fn limit_of(fig: &FigureSpec, spec: &SweepSpec) -> Result<Option<Limit>> {
-    if !fig.limit || fig.axis != Axis::Lambda || spec.phases().len() != 1 {
+/// `lambda_2` when the figure marks it and the sweep has one phase (the
+/// phase of `points` when given, else the sweep's).
+fn limit_of(fig: &FigureSpec, spec: &SweepSpec, points: &[SweepPoint]) -> Result<Option<Limit>> {
+    let mut phases: Vec<f64> = if points.is_empty() {
+        spec.phases().to_vec()
+    } else {
+        points.iter().map(|p| p.phase).collect()
+    };
+    phases.sort_by(f64::total_cmp);
+    phases.dedup();
+    if !fig.limit || fig.axis != Axis::Lambda || phases.len() != 1 {
         return Ok(None);
     }
     let l = shakedown_limit(
         &spec.material(),
         spec.center(),
         spec.slope(),
-        spec.phases()[0],
+        phases[0],
         &spec.disc(),
         DEFAULT_SAMPLES,
     )?;
@@ -347,7 +536,53 @@ fn single_case(args: &FigureArgs, preset: &Preset) -> Result<Case> {
     if let Some(t) = &args.lists.initials {
         p.initial = t.clone();
     }
-    Case::from_params(&p).map_err(|e| anyhow!(InputError(e.to_string())))
+    let mut case = Case::from_params(&p).map_err(|e| anyhow!(InputError(e.to_string())))?;
+    if let Some(text) = &args.lists.initial_path {
+        case.initial = super::custom_path(text, &case.material)?;
+    } else if args.lists.initials.is_none() {
+        if let Some(path) = &preset.initial_path {
+            case.initial = path.clone();
+        }
+    }
+    Ok(case)
+}
+
+/// Read the memory figure's CSV ([`memory_csv`]) back.
+fn parse_memory_csv(text: &str) -> std::result::Result<Vec<MemoryPoint>, String> {
+    let lines = data_lines(text, MEMORY_HEADER).map_err(|e| e.to_string())?;
+    let mut out = Vec::new();
+    for (n, line) in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != 8 {
+            return Err(format!("line {n}: expected 8 columns: {MEMORY_HEADER}"));
+        }
+        let num = |t: &str| {
+            t.parse::<f64>()
+                .map_err(|_| format!("line {n}: '{t}' is not a number"))
+        };
+        let opt = |t: &str| {
+            if t.is_empty() {
+                Ok(None)
+            } else {
+                num(t).map(Some)
+            }
+        };
+        let count = |t: &str| {
+            t.parse::<usize>()
+                .map_err(|_| format!("line {n}: '{t}' is not a count"))
+        };
+        out.push(MemoryPoint {
+            load_factor: num(f[0])?,
+            phase: num(f[1])?,
+            range: opt(f[2])?,
+            stuck_fraction: opt(f[3])?,
+            shakedown: count(f[4])?,
+            cyclic_slip: count(f[5])?,
+            ratchetting: count(f[6])?,
+            other: count(f[7])?,
+        });
+    }
+    Ok(out)
 }
 
 fn describe(map: &SlipMap) -> Result<()> {

@@ -12,7 +12,7 @@ use shakedown::analysis::limit::{
     sample_convergence, shakedown_limit, Limit, LimitError, DEFAULT_SAMPLES,
 };
 use shakedown::io::csv::slip_csv;
-use shakedown::io::output::{check_folder, is_nonempty_file};
+use shakedown::io::output::{check_folder, is_nonempty_file, OutputLock};
 use shakedown::model::{LoadPoint, Material};
 
 use super::batch::{lock_file_output, print_stdout, refuse_input_as_output, write_file};
@@ -28,6 +28,7 @@ pub struct LimitArgs {
     pub samples: Option<String>,
     /// Write the optimal slip g(theta) here as CSV (nothing is written
     /// without it); `run` and `sweep` start from it with --initial-slip FILE.
+    /// With --phi LIST|RANGE: the curve phi,lambda_2,lower_bound.
     #[arg(long, value_name = "FILE")]
     pub out: Option<std::path::PathBuf>,
     /// Replace an existing, non-empty --out FILE.
@@ -59,6 +60,14 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
             ))));
         }
     }
+    if let Some(phis) = args
+        .case
+        .phi
+        .as_deref()
+        .filter(|t| t.contains(':') || t.contains(','))
+    {
+        return curve(&args, phis);
+    }
     let base = args.case.base(CaseParams::default())?;
     let mut params = args.case.apply(base)?;
     // lambda and the initial path play no part in the limit.
@@ -72,28 +81,7 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
         })?,
         None => DEFAULT_SAMPLES,
     };
-    // Refuse a bad output before the work, and hold it against a second writer.
-    let _lock = match &args.out {
-        Some(out) => {
-            if let Some(preset) = &args.case.preset {
-                refuse_input_as_output("--out", out, &[("--preset file", Path::new(preset))])?;
-            }
-            if !args.force && is_nonempty_file(out) {
-                return Err(anyhow!(InputError(format!(
-                    "--out {}: it exists and is not empty: add --force to replace it",
-                    out.display()
-                ))));
-            }
-            check_folder(out).map_err(|e| {
-                anyhow!(InputError(format!(
-                    "--out {}: cannot create it: {e}: expected a writable file path",
-                    out.display()
-                )))
-            })?;
-            lock_file_output("--out", out)?
-        }
-        None => None,
-    };
+    let _lock = prepare_out(&args)?;
     let (material, center) = (case.material, case.cycle.center);
     let (slope, phase) = (case.cycle.slope, case.cycle.phase);
     let limit =
@@ -214,4 +202,78 @@ fn readable(
         }
     }
     o
+}
+
+/// `limit --phi LIST|RANGE`: `lambda_2` against `phi` as CSV on stdout,
+/// and in `--out` when given.
+fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
+    use shakedown::analysis::limit_curve::{curve_csv, limit_curve};
+    use shakedown::io::parse::{parse_angle, parse_values};
+    let phases = parse_values(phis, parse_angle).map_err(|e| super::bad_flag("phi", phis, e))?;
+    let base = args.case.base(CaseParams::default())?;
+    let mut flags = args.case.clone();
+    flags.phi = None;
+    let mut params = flags.apply(base)?;
+    params.phase = phases[0];
+    params.initial = "OA".into();
+    let case = Case::from_params(&params).map_err(|e| anyhow!(InputError(e.to_string())))?;
+    let samples = match &args.samples {
+        Some(t) => t
+            .trim()
+            .parse::<usize>()
+            .map_err(|_| anyhow!(InputError(format!("--samples {t}: not a whole number"))))?,
+        None => DEFAULT_SAMPLES,
+    };
+    let points = limit_curve(
+        &case.material,
+        case.cycle.center,
+        case.cycle.slope,
+        &phases,
+        &case.disc,
+        samples,
+    );
+    if let Some(e) = points.iter().find_map(|p| p.limit.as_ref().err()) {
+        eprintln!("warning: the programme failed at some phases (empty values): {e}");
+    }
+    let _lock = prepare_out(args)?;
+    let mut meta = shakedown::io::csv::case_metadata("limit-curve", &case, "OA");
+    meta.set(
+        "phi",
+        phases
+            .iter()
+            .map(f64::to_string)
+            .collect::<Vec<_>>()
+            .join(","),
+    );
+    meta.set("samples", samples);
+    let csv = format!("{}{}", meta.render(), curve_csv(&points));
+    print_stdout(&csv)?;
+    if let Some(out) = &args.out {
+        write_file("--out", out, csv.as_bytes())?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Refuse a bad `--out` before any work, and hold it against a second
+/// writer: the lock (if any) lives as long as the returned guard.
+fn prepare_out(args: &LimitArgs) -> Result<Option<OutputLock>> {
+    let Some(out) = &args.out else {
+        return Ok(None);
+    };
+    if let Some(preset) = &args.case.preset {
+        refuse_input_as_output("--out", out, &[("--preset file", Path::new(preset))])?;
+    }
+    if !args.force && is_nonempty_file(out) {
+        return Err(anyhow!(InputError(format!(
+            "--out {}: it exists and is not empty: add --force to replace it",
+            out.display()
+        ))));
+    }
+    check_folder(out).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--out {}: cannot create it: {e}: expected a writable file path",
+            out.display()
+        )))
+    })?;
+    lock_file_output("--out", out)
 }

@@ -107,8 +107,35 @@ pub struct CaseArgs {
     /// Initial path: OA, one of the 24 points as a,b in units of pi/4 (e.g. 7,-7), or optimal.
     #[arg(long, value_name = "NAME", allow_hyphen_values = true)]
     pub initial: Option<String>,
+    /// A custom transient O -> points -> A instead of --initial: load-plane points "X1,Y1;X2,Y2" (angles as in --phi, e.g. "1.75pi,-1.75pi").
+    #[arg(
+        long,
+        value_name = "X,Y;...",
+        allow_hyphen_values = true,
+        conflicts_with = "initial"
+    )]
+    pub initial_path: Option<String>,
     #[command(flatten)]
     pub model: ModelArgs,
+}
+
+/// The custom transient of `--initial-path TEXT` for `material`; a bad
+/// point is bad input, on one line.
+pub fn custom_path(
+    text: &str,
+    material: &shakedown::model::Material,
+) -> Result<shakedown::model::path::Initial> {
+    let points = shakedown::io::parse::parse_points(text).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--initial-path {text}: {e}: expected points X1,Y1;X2,Y2 (e.g. 1.75pi,-1.75pi)"
+        )))
+    })?;
+    let points = points
+        .into_iter()
+        .map(|(x, y)| shakedown::LoadPoint::new(x, y))
+        .collect();
+    shakedown::model::path::Initial::custom_for(points, material)
+        .map_err(|e| anyhow!(InputError(format!("--initial-path {text}: {e}"))))
 }
 
 /// Load a preset named by a flag; a bad one is an input error.
@@ -275,11 +302,20 @@ impl CaseArgs {
         Ok(p)
     }
 
-    /// The validated case.
+    /// The validated case. A custom transient (`--initial-path`, else the
+    /// preset's `initial-path` unless `--initial` is given) replaces the
+    /// named initial path.
     pub fn case(&self, base: CaseParams) -> Result<(CaseParams, Case)> {
         let params = self.apply(base)?;
-        let case = Case::from_params(&params).map_err(|e| case_error(e, |f| self.given(f)))?;
+        let mut case = Case::from_params(&params).map_err(|e| case_error(e, |f| self.given(f)))?;
         warn_if_slow(params.nodes, params.steps);
+        if let Some(text) = &self.initial_path {
+            case.initial = custom_path(text, &case.material)?;
+        } else if self.initial.is_none() {
+            if let Some(path) = self.preset()?.and_then(|p| p.initial_path) {
+                case.initial = path;
+            }
+        }
         Ok((params, case))
     }
 
@@ -289,6 +325,7 @@ impl CaseArgs {
             "lambda" => self.lambda.clone(),
             "phi" => self.phi.clone(),
             "initial" => self.initial.clone(),
+            "initial-path" => self.initial_path.clone(),
             f => self.model.given(f),
         }
     }

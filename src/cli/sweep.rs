@@ -58,8 +58,15 @@ pub struct ListArgs {
     pub initials: Option<String>,
     /// Start every run at the cycle centre with the slip in FILE (as
     /// `limit --out FILE` writes it; its node count must be --nodes).
-    #[arg(long, value_name = "FILE", conflicts_with = "initials")]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["initials", "initial_path"])]
     pub initial_slip: Option<String>,
+    /// A custom transient O -> points -> A: load-plane points "X1,Y1;X2,Y2" (angles as in --phi, e.g. "1.75pi,-1.75pi"). Runs alone, or after the --initial list when that is given.
+    #[arg(
+        long = "initial-path",
+        value_name = "X,Y;...",
+        allow_hyphen_values = true
+    )]
+    pub initial_path: Option<String>,
 }
 
 /// The grid of a sweep: what `sweep` runs and what `merge` re-derives.
@@ -111,7 +118,7 @@ pub fn spec(
         (None, Some(p)) => p.phases.clone(),
         (None, None) => vec![params.phase],
     };
-    let initials = match (&lists.initials, preset) {
+    let mut initials = match (&lists.initials, preset) {
         _ if lists.initial_slip.is_some() => {
             let path = lists.initial_slip.as_deref().unwrap_or_default();
             vec![super::initial_slip(path, params.nodes)?]
@@ -121,6 +128,18 @@ pub fn spec(
         (None, None) => Initial::parse_list(&params.initial)
             .map_err(|e| bad_flag("initial", &params.initial, e))?,
     };
+    if let Some(text) = &lists.initial_path {
+        let material =
+            shakedown::model::Material::new(params.friction, params.poisson, params.plane)
+                .map_err(|e| case_error(CaseError::Param(e), |f| model.given(f)))?;
+        let custom = super::custom_path(text, &material)?;
+        if lists.initials.is_none() {
+            initials.clear();
+        }
+        if !initials.contains(&custom) {
+            initials.push(custom);
+        }
+    }
     let given = |flag: &str| match flag {
         "lambda" => lists.lambdas.clone(),
         "phi" => lists.phis.clone(),
@@ -304,6 +323,7 @@ mod tests {
                 phis: Some("0,pi/3".into()),
                 initials: Some("OA,-7,3".into()),
                 initial_slip: None,
+                initial_path: None,
             },
             model: ModelArgs::default(),
         })

@@ -157,6 +157,20 @@ pub fn parse_point(text: &str) -> Result<(f64, f64), ParseError> {
     Ok((parse_angle(parts[0])?, parse_angle(parts[1])?))
 }
 
+/// Load-plane points `x1,y1;x2,y2;...`, each coordinate an angle as
+/// [`parse_angle`] reads it (`1.75pi,-1.75pi`). At least one point.
+pub fn parse_points(text: &str) -> Result<Vec<(f64, f64)>, ParseError> {
+    let parts: Vec<&str> = text
+        .split(';')
+        .map(str::trim)
+        .filter(|p| !p.is_empty())
+        .collect();
+    if parts.is_empty() {
+        return Err(ParseError::Number(text.to_string()));
+    }
+    parts.into_iter().map(parse_point).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -22,7 +22,7 @@ use crate::model::path::Initial;
 use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
 
 /// The built-in presets: name and TOML text, in listing order.
-pub const BUILTIN: [(&str, &str); 7] = [
+pub const BUILTIN: [(&str, &str); 8] = [
     ("fig3", include_str!("../../presets/fig3.toml")),
     ("fig4", include_str!("../../presets/fig4.toml")),
     ("fig5", include_str!("../../presets/fig5.toml")),
@@ -30,6 +30,7 @@ pub const BUILTIN: [(&str, &str); 7] = [
     ("fig7", include_str!("../../presets/fig7.toml")),
     ("fig8", include_str!("../../presets/fig8.toml")),
     ("fig9", include_str!("../../presets/fig9.toml")),
+    ("regime", include_str!("../../presets/regime.toml")),
 ];
 
 /// A preset that cannot be used.
@@ -61,6 +62,9 @@ pub enum FigureKind {
     /// Slip zones over one steady cycle next to the load variation
     /// (Figs. 5, 7).
     SlipMap,
+    /// The steady state over the `(lambda, phi)` plane for one transient,
+    /// with `lambda_2(phi)` (the regime map).
+    Regime,
 }
 
 /// How ratchetting is marked: the paper uses two conventions.
@@ -100,6 +104,10 @@ pub struct Preset {
     pub params: CaseParams,
     pub sweep: SweepLists,
     pub figure: Option<FigureSpec>,
+    /// A custom transient `O -> points -> A` (`[case] initial-path`), which
+    /// `run` and `tui` use instead of `initial`; a sweep without its own
+    /// `initial` list runs it alone, one with a list runs it last.
+    pub initial_path: Option<Initial>,
 }
 
 /// Names of the built-in presets, comma separated.
@@ -290,6 +298,7 @@ struct CaseToml {
     nu: Option<Spanned<Num>>,
     plane: Option<Spanned<Plane>>,
     initial: Option<Spanned<String>>,
+    initial_path: Option<Spanned<Vec<Vec<Num>>>>,
     nodes: Option<Spanned<usize>>,
     steps: Option<Spanned<usize>>,
     max_cycles: Option<Spanned<usize>>,
@@ -383,7 +392,34 @@ pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Preset, Prese
     }
 
     let params = case_params(&ctx, &raw.case)?;
-    let sweep = sweep_lists(&ctx, &raw.sweep, &params)?;
+    let mut sweep = sweep_lists(&ctx, &raw.sweep, &params)?;
+    let initial_path = match &raw.case.initial_path {
+        None => None,
+        Some(v) => {
+            let at = |e: String| ctx.at(v.span(), format!("case.initial-path: {e}"));
+            let mut points = Vec::new();
+            for pair in v.get_ref() {
+                if pair.len() != 2 {
+                    return Err(at(format!(
+                        "expected points [x, y] (e.g. [[\"1.75pi\", \"-1.75pi\"]]), found one with {} values",
+                        pair.len()
+                    )));
+                }
+                let x = pair[0].angle().map_err(|e| at(e.to_string()))?;
+                let y = pair[1].angle().map_err(|e| at(e.to_string()))?;
+                points.push(LoadPoint::new(x, y));
+            }
+            let material = Material::new(params.friction, params.poisson, params.plane)
+                .map_err(|e| at(e.to_string()))?;
+            let custom = Initial::custom_for(points, &material).map_err(|e| at(e.to_string()))?;
+            if raw.sweep.initial.is_none() {
+                sweep.initials = vec![custom.clone()];
+            } else if !sweep.initials.contains(&custom) {
+                sweep.initials.push(custom.clone());
+            }
+            Some(custom)
+        }
+    };
     let figure = raw
         .figure
         .as_ref()
@@ -396,6 +432,7 @@ pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Preset, Prese
         params,
         sweep,
         figure,
+        initial_path,
     })
 }
 
@@ -653,6 +690,22 @@ mod tests {
         assert_eq!(p.sweep.phases, vec![p.params.phase]);
         assert_eq!(p.sweep.initials, vec![Initial::Direct]);
         assert_eq!(p.params.friction, CaseParams::default().friction);
+    }
+
+    #[test]
+    fn custom_initial_path() {
+        let p = parse(
+            "description = \"d\"\n[case]\ninitial-path = [[\"1.75pi\", \"-1.75pi\"]]\n",
+            "f",
+            "f",
+        )
+        .unwrap();
+        let c = p.initial_path.unwrap();
+        assert_eq!(p.sweep.initials, vec![c.clone()]);
+        assert_eq!(c.name(), "path:1.75pi,-1.75pi");
+        let e = err("description = \"d\"\n[case]\ninitial-path = [[0, 7]]\n");
+        assert!(matches!(e, PresetError::Invalid { line: 3, .. }), "{e}");
+        assert!(e.to_string().contains("gross slip"), "{e}");
     }
 
     #[test]

@@ -23,7 +23,7 @@
 use std::f64::consts::{FRAC_PI_4, PI};
 use std::sync::Arc;
 
-use crate::model::{Cycle, LoadPoint};
+use crate::model::{Cycle, LoadPoint, Material};
 
 /// A bad initial-path name or custom path.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -57,10 +57,34 @@ pub enum PathError {
     /// A point of a custom transient has a NaN or infinite coordinate.
     #[error("custom path point {index} is not finite")]
     NotFinite {
-        /// Position of the offending point in the list given to
-        /// [`Initial::custom`] (from 0).
+        /// Position of the offending point in the list (from 1).
         index: usize,
     },
+    /// A custom path point beyond the gross-slip line `|y| = 2 pi`.
+    #[error("custom path point {index} ({x}, {y}) is beyond gross slip: |y| must be below 2 pi = 6.2832")]
+    GrossSlip {
+        /// Position of the point in the list (from 1).
+        index: usize,
+        /// Its `x`.
+        x: f64,
+        /// Its `y`.
+        y: f64,
+    },
+    /// A custom path point at which the contact separates.
+    #[error("custom path point {index} ({x}, {y}) separates the contact: |x| must be below 2 pi chi / (f beta) = {limit:.4}")]
+    Separation {
+        /// Position of the point in the list (from 1).
+        index: usize,
+        /// Its `x`.
+        x: f64,
+        /// Its `y`.
+        y: f64,
+        /// The separation bound on `|x|` for this material.
+        limit: f64,
+    },
+    /// A custom path with no point.
+    #[error("a custom path needs at least one point")]
+    EmptyPath,
 }
 
 /// How the locked-in slip is prepared before the steady cycle starts
@@ -116,12 +140,13 @@ impl Initial {
         out
     }
 
-    /// Stable name: `OA`, `a,b`, `custom` or the slip's name.
+    /// Stable name: `OA`, `a,b`, `path:x1,y1;...` (units of pi) or the
+    /// slip's name.
     pub fn name(&self) -> String {
         match self {
             Initial::Direct => "OA".into(),
             Initial::Via { a, b } => format!("{a},{b}"),
-            Initial::Custom(_) => "custom".into(),
+            Initial::Custom(points) => custom_name(points),
             Initial::Slip { name, .. } => name.clone(),
             Initial::Optimal => "optimal".into(),
         }
@@ -219,19 +244,49 @@ impl Initial {
         Ok(out)
     }
 
-    /// A custom transient `O -> points[0] -> ... -> A` through the given
-    /// load-plane points.
+    /// A custom transient through the given load-plane points.
     ///
     /// # Errors
     ///
-    /// [`PathError::NotFinite`] with the index of the first point that has a
-    /// NaN or infinite coordinate.
+    /// [`PathError::NotFinite`] for a point that is not finite (numbered
+    /// from 1).
     pub fn custom(points: Vec<LoadPoint>) -> Result<Initial, PathError> {
         if let Some(index) = points
             .iter()
             .position(|p| !(p.x().is_finite() && p.y().is_finite()))
         {
-            return Err(PathError::NotFinite { index });
+            return Err(PathError::NotFinite { index: index + 1 });
+        }
+        Ok(Initial::Custom(points))
+    }
+
+    /// A custom transient `O -> points -> A` for `material`, with every
+    /// point checked: finite, inside gross slip (`|y| < 2 pi`) and free of
+    /// separation without locked-in slip (`|x| < 2 pi chi / (f beta)`,
+    /// model.md section 1). The run itself still reports gross slip or
+    /// separation that locked-in slip brings on earlier.
+    ///
+    /// # Errors
+    ///
+    /// [`PathError::EmptyPath`], [`PathError::NotFinite`],
+    /// [`PathError::GrossSlip`] or [`PathError::Separation`], naming the
+    /// first bad point (numbered from 1).
+    pub fn custom_for(points: Vec<LoadPoint>, material: &Material) -> Result<Initial, PathError> {
+        if points.is_empty() {
+            return Err(PathError::EmptyPath);
+        }
+        let limit = 2.0 * PI * material.chi() / (material.friction() * material.beta());
+        for (k, p) in points.iter().enumerate() {
+            let (index, x, y) = (k + 1, p.x(), p.y());
+            if !(x.is_finite() && y.is_finite()) {
+                return Err(PathError::NotFinite { index });
+            }
+            if y.abs() >= 2.0 * PI {
+                return Err(PathError::GrossSlip { index, x, y });
+            }
+            if x.abs() >= limit {
+                return Err(PathError::Separation { index, x, y, limit });
+            }
         }
         Ok(Initial::Custom(points))
     }
@@ -253,6 +308,18 @@ impl Initial {
         w.push(center);
         w
     }
+}
+
+/// `path:x1,y1;x2,y2` with the coordinates in units of pi (`1.75pi`), the
+/// form `--initial-path` takes: a stable name for a custom path in a
+/// sweep's CSV.
+fn custom_name(points: &[LoadPoint]) -> String {
+    let pi = |v: f64| format!("{}pi", v / PI);
+    let parts: Vec<String> = points
+        .iter()
+        .map(|p| format!("{},{}", pi(p.x()), pi(p.y())))
+        .collect();
+    format!("path:{}", parts.join(";"))
 }
 
 impl std::fmt::Display for Initial {
