@@ -743,20 +743,33 @@ impl App {
                         text
                     }
                 }
-                Event::AdvancingStick { nodes, substeps } => {
+                Event::AdvancingStick {
+                    nodes,
+                    substeps,
+                    load,
+                    ..
+                } => {
                     self.last_stick = Some(StickInfo {
                         nodes: nodes.clone(),
                         substeps: *substeps,
                         increment: before,
                     });
                     let text = format!(
-                        "advancing stick at {} ({} sub-increments)",
+                        "advancing stick at {} at load point ({:.4}, {:.4}) ({} sub-increments)",
                         describe_nodes(nodes, self.case.disc.nodes()),
+                        load.x(),
+                        load.y(),
                         substeps
                     );
                     pause.get_or_insert_with(|| text.clone());
                     text
                 }
+                Event::SlipEntry { nodes, load, .. } => format!(
+                    "slip entry at {} at load point ({:.4}, {:.4})",
+                    describe_nodes(nodes, self.case.disc.nodes()),
+                    load.x(),
+                    load.y()
+                ),
                 Event::TransientFinished => "transient finished: cycle 1 begins".into(),
                 Event::CycleCompleted {
                     cycle,
