@@ -45,6 +45,14 @@ const RATE_TOL: f64 = 1e-13;
 /// `|y|` within this relative distance of `2 pi` is on the torque limit.
 const GROSS_TOL: f64 = 1e-9;
 
+/// `point` moved onto the torque limit: `|y|` the first number above
+/// `2 pi` in the direction `dy` (gross slip is `|y| > 2 pi`, model.md
+/// section 2), `x` unchanged.
+fn on_torque_limit(point: LoadPoint, dy: f64) -> LoadPoint {
+    let beyond = f64::from_bits((2.0 * PI).to_bits() + 1);
+    LoadPoint::new(point.x(), beyond.copysign(dy))
+}
+
 /// What happened at an event inside an increment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -277,7 +285,8 @@ impl Contact {
                 self.responses(w)?;
             }
             self.combine(w, dx, dy);
-            let (stop, t, need_rates) = self.scan(w, dy, 1.0 - s);
+            let remaining = 1.0 - s;
+            let (stop, t, need_rates) = self.scan(w, dy, remaining);
             if need_rates {
                 // A settled rate problem leaves nothing to decide here: a
                 // second request at the same point means it did not hold.
@@ -285,10 +294,20 @@ impl Contact {
                 if rate_solves_here > 2 {
                     return self.fallback(target, s, w);
                 }
-                match self.rate_problem(w, dx, dy, s) {
+                match self.rate_problem(w, dx, dy, s, remaining) {
                     Ok(()) => continue,
                     Err(RateFailure::Gross) => {
-                        self.increment.reached = s;
+                        // All nodes at the limit a round-off short of
+                        // |y| = 2 pi: the crossing is the gross-slip point.
+                        let t = if dy == 0.0 {
+                            0.0
+                        } else {
+                            ((2.0 * PI * dy.signum() - self.load.y()) / dy).clamp(0.0, remaining)
+                        };
+                        let side = if dy == 0.0 { self.load.y() } else { dy };
+                        self.increment.reached = s + t;
+                        self.load = on_torque_limit(from.lerp(target, s + t), side);
+                        self.refresh_tractions();
                         return Err(ContactError::GrossSlip { load: self.load });
                     }
                     Err(RateFailure::NotSettled) => return self.fallback(target, s, w),
@@ -297,10 +316,10 @@ impl Contact {
             rate_solves_here = 0;
             let end = matches!(stop, Stop::End);
             let s_new = if end { 1.0 } else { s + t };
-            let load = if end {
-                target
-            } else {
-                from.lerp(target, s_new)
+            let load = match stop {
+                Stop::End => target,
+                Stop::Gross => on_torque_limit(from.lerp(target, s_new), dy),
+                _ => from.lerp(target, s_new),
             };
             self.move_along(w, t, load);
             s = s_new;
@@ -467,8 +486,8 @@ impl Contact {
                 // Slack on the forward (sigma = 1) and backward side.
                 for sigma in [1.0, -1.0] {
                     let h1 = f * a - sigma * b;
-                    if h1 < -RATE_TOL {
-                        let h0 = f * p - sigma * q;
+                    let h0 = f * p - sigma * q;
+                    if h1 < -RATE_TOL && h0 + remaining * h1 < -TRACTION_TOL {
                         if h0 <= TRACTION_TOL {
                             need_rates = true;
                         } else {
@@ -559,6 +578,7 @@ impl Contact {
         dx: f64,
         dy: f64,
         s: f64,
+        remaining: f64,
     ) -> Result<(), RateFailure> {
         let f = self.material.friction();
         let n = self.nodes();
@@ -596,7 +616,10 @@ impl Contact {
                 for sigma in [1.0, -1.0] {
                     let h0 = f * p - sigma * q;
                     let h1 = f * e.rp[j] - sigma * e.rq[j];
-                    if h0 <= TRACTION_TOL && h1 < -RATE_TOL {
+                    if h0 <= TRACTION_TOL
+                        && h1 < -RATE_TOL
+                        && h0 + remaining * h1 < -TRACTION_TOL
+                    {
                         e.trial[j] = if sigma > 0.0 {
                             SlipDirection::Forward
                         } else {
@@ -700,7 +723,7 @@ impl Contact {
                 if y1.abs() >= 2.0 * PI && y0.abs() < 2.0 * PI && y1 != y0 {
                     let limit = 2.0 * PI * (y1 - y0).signum();
                     let r = (limit - y0) / (y1 - y0);
-                    let load = self.load.lerp(target, r);
+                    let load = on_torque_limit(self.load.lerp(target, r), y1 - y0);
                     self.increment.reached = s + (1.0 - s) * r;
                     Err(ContactError::GrossSlip { load })
                 } else {
