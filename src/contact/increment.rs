@@ -53,6 +53,85 @@ fn on_torque_limit(point: LoadPoint, dy: f64) -> LoadPoint {
     LoadPoint::new(point.x(), beyond.copysign(dy))
 }
 
+/// `sum_j p_j |t r_j|`, in four interleaved partial sums.
+fn weighted_abs(p: &[f64], r: &[f64], t: f64) -> f64 {
+    let mut acc = [0.0; 4];
+    let (pc, rc) = (p.chunks_exact(4), r.chunks_exact(4));
+    let (pt, rt) = (pc.remainder(), rc.remainder());
+    for (pp, rr) in pc.zip(rc) {
+        for i in 0..4 {
+            acc[i] += pp[i] * (t * rr[i]).abs();
+        }
+    }
+    let tail: f64 = pt.iter().zip(rt).map(|(p, r)| p * (t * r).abs()).sum();
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
+/// `(max |r|, min s r)` over the nodes, in four lanes.
+fn rate_extremes(r: &[f64], sgn: &[f64]) -> (f64, f64) {
+    let mut big = [0.0f64; 4];
+    let mut low = [0.0f64; 4];
+    let (rc, sc) = (r.chunks_exact(4), sgn.chunks_exact(4));
+    let (rt, st) = (rc.remainder(), sc.remainder());
+    for (rr, ss) in rc.zip(sc) {
+        for i in 0..4 {
+            let a = rr[i].abs();
+            big[i] = if a > big[i] { a } else { big[i] };
+            let v = ss[i] * rr[i];
+            low[i] = if v < low[i] { v } else { low[i] };
+        }
+    }
+    let mut scale = big.iter().fold(0.0f64, |m, &v| m.max(v));
+    let mut worst = low.iter().fold(0.0f64, |m, &v| m.min(v));
+    for (&r, &s) in rt.iter().zip(st) {
+        scale = scale.max(r.abs());
+        worst = worst.min(s * r);
+    }
+    (scale, worst)
+}
+
+/// The lowest margin at the end of the segment over the nodes: the end
+/// pressure, and the end slack `f p -+ q` (plus `TRACTION_TOL`, and
+/// infinite on slip nodes). Negative: some node may reach an event.
+fn end_margin(v: [&[f64]; 7], f: f64, ex: f64, ey: f64) -> f64 {
+    let [p, q, tpx, tpy, tqx, tqy, off] = v;
+    let margin = |p: f64, q: f64, px: f64, py: f64, qx: f64, qy: f64, off: f64| {
+        let ep = p + ex * px + ey * py;
+        let eq = q + ex * qx + ey * qy;
+        let fwd = f * ep - eq + off + TRACTION_TOL;
+        let bwd = f * ep + eq + off + TRACTION_TOL;
+        let m = if fwd < bwd { fwd } else { bwd };
+        if ep < m {
+            ep
+        } else {
+            m
+        }
+    };
+    let mut low = [f64::INFINITY; 4];
+    let chunks = p
+        .chunks_exact(4)
+        .zip(q.chunks_exact(4))
+        .zip(tpx.chunks_exact(4))
+        .zip(tpy.chunks_exact(4))
+        .zip(tqx.chunks_exact(4))
+        .zip(tqy.chunks_exact(4))
+        .zip(off.chunks_exact(4));
+    for ((((((p, q), px), py), qx), qy), o) in chunks {
+        let as4 = |s: &[f64]| -> [f64; 4] { s.try_into().expect("chunks of 4") };
+        let (p, q, px, py, qx, qy, o) =
+            (as4(p), as4(q), as4(px), as4(py), as4(qx), as4(qy), as4(o));
+        for i in 0..4 {
+            let m = margin(p[i], q[i], px[i], py[i], qx[i], qy[i], o[i]);
+            low[i] = if m < low[i] { m } else { low[i] };
+        }
+    }
+    let mut lowest = low.iter().fold(f64::INFINITY, |m, &v| m.min(v));
+    for j in p.len() - p.len() % 4..p.len() {
+        lowest = lowest.min(margin(p[j], q[j], tpx[j], tpy[j], tqx[j], tqy[j], off[j]));
+    }
+    lowest
+}
+
 /// What happened at an event inside an increment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -94,7 +173,7 @@ pub struct Increment {
     pub forward: Vec<f64>,
     /// Negative slip of each node over the increment, as a positive number.
     pub backward: Vec<f64>,
-    /// Whether any node slipped.
+    /// Whether any node slipped (`forward` and `backward` are zero if not).
     pub slipped: bool,
     /// Whether the slip set or a direction changed.
     pub set_changed: bool,
@@ -122,6 +201,17 @@ impl Increment {
             rate_solves: 0,
             factorisations: 0,
             fallback: false,
+        }
+    }
+
+    /// Add slip `dg` of node `j` to `forward` / `backward`.
+    fn add_slip(&mut self, j: usize, dg: f64) {
+        if dg > 0.0 {
+            self.forward[j] += dg;
+            self.slipped = true;
+        } else if dg < 0.0 {
+            self.backward[j] -= dg;
+            self.slipped = true;
         }
     }
 
@@ -166,10 +256,23 @@ pub(crate) struct Engine {
     eqx: Vec<f64>,
     eqy: Vec<f64>,
     elastic_ready: bool,
-    /// Rates along the current segment: slip, residual p and q, total p and q.
+    /// Total pressure and shear (elastic + residual) per unit `x` and `y`.
+    tpx: Vec<f64>,
+    tpy: Vec<f64>,
+    tqx: Vec<f64>,
+    tqy: Vec<f64>,
+    /// Whether a node sticks in the cached set, and its slip sign (0 if it
+    /// sticks).
+    stick: Vec<bool>,
+    sgn: Vec<f64>,
+    /// 0 on stick nodes, infinity on slip nodes (their slack is not watched).
+    off: Vec<f64>,
+    /// Sub-segments since `p` and `q` were last recomputed from the
+    /// elastic and residual parts (between, they are updated by the rates).
+    since_refresh: usize,
+    /// Rates along the current segment: slip on the set; p and q at every
+    /// node (filled for the rate problem only).
     rg: Vec<f64>,
-    rhp: Vec<f64>,
-    rhq: Vec<f64>,
     rp: Vec<f64>,
     rq: Vec<f64>,
     /// Rate-problem scratch.
@@ -184,6 +287,15 @@ pub(crate) struct Engine {
 }
 
 impl Engine {
+    fn totals(&mut self) {
+        for j in 0..self.tpx.len() {
+            self.tpx[j] = self.epx[j] + self.hpx[j];
+            self.tpy[j] = self.epy[j] + self.hpy[j];
+            self.tqx[j] = self.eqx[j] + self.hqx[j];
+            self.tqy[j] = self.eqy[j] + self.hqy[j];
+        }
+    }
+
     pub(super) fn new(n: usize) -> Self {
         let z = || vec![0.0; n];
         Self {
@@ -201,9 +313,15 @@ impl Engine {
             eqx: z(),
             eqy: z(),
             elastic_ready: false,
+            tpx: z(),
+            tpy: z(),
+            tqx: z(),
+            tqy: z(),
+            stick: vec![true; n],
+            sgn: z(),
+            off: z(),
+            since_refresh: 0,
             rg: z(),
-            rhp: z(),
-            rhq: z(),
             rp: z(),
             rq: z(),
             trial: vec![SlipDirection::Stick; n],
@@ -284,9 +402,11 @@ impl Contact {
             if !w.engine.valid {
                 self.responses(w)?;
             }
-            self.combine(w, dx, dy);
+            if !w.engine.set.is_empty() {
+                self.combine(w, dx, dy);
+            }
             let remaining = 1.0 - s;
-            let (stop, t, need_rates) = self.scan(w, dy, remaining);
+            let (stop, t, need_rates) = self.scan(w, dx, dy, remaining);
             if need_rates {
                 // A settled rate problem leaves nothing to decide here: a
                 // second request at the same point means it did not hold.
@@ -321,7 +441,7 @@ impl Contact {
                 Stop::Gross => on_torque_limit(from.lerp(target, s_new), dy),
                 _ => from.lerp(target, s_new),
             };
-            self.move_along(w, t, load);
+            self.move_along(w, t, dx, dy, load);
             s = s_new;
             self.increment.reached = s;
             match stop {
@@ -386,11 +506,19 @@ impl Contact {
                 .map(|(j, d)| (j, d.sign())),
         );
         e.valid = false;
+        for (j, d) in e.dirs.iter().enumerate() {
+            e.stick[j] = !d.is_slipping();
+            e.sgn[j] = d.sign();
+            e.off[j] = if d.is_slipping() { f64::INFINITY } else { 0.0 };
+        }
         let k = e.set.len();
         if k == 0 {
-            for v in [&mut e.gx, &mut e.gy, &mut e.hpx, &mut e.hpy, &mut e.hqx, &mut e.hqy] {
+            for v in [
+                &mut e.gx, &mut e.gy, &mut e.hpx, &mut e.hpy, &mut e.hqx, &mut e.hqy,
+            ] {
                 v.fill(0.0);
             }
+            e.totals();
             e.valid = true;
             return true;
         }
@@ -427,79 +555,57 @@ impl Contact {
                 *o = -d;
             }
         }
+        e.totals();
         e.valid = true;
         true
     }
 
-    /// Rates along the segment direction `(dx, dy)` from the cached responses.
+    /// Slip rates on the set along the segment direction `(dx, dy)`.
     #[inline]
     fn combine(&self, w: &mut Workspace, dx: f64, dy: f64) {
         let e = &mut w.engine;
-        for &(j, _) in &e.set {
-            e.rg[j] = dx * e.gx[j] + dy * e.gy[j];
+        for ((r, gx), gy) in e.rg.iter_mut().zip(&e.gx).zip(&e.gy) {
+            *r = dx * gx + dy * gy;
         }
-        if e.set.is_empty() {
-            for j in 0..e.rp.len() {
-                e.rp[j] = dx * e.epx[j] + dy * e.epy[j];
-                e.rq[j] = dx * e.eqx[j] + dy * e.eqy[j];
-            }
-        } else {
-            for j in 0..e.rp.len() {
-                let hp = dx * e.hpx[j] + dy * e.hpy[j];
-                let hq = dx * e.hqx[j] + dy * e.hqy[j];
-                e.rhp[j] = hp;
-                e.rhq[j] = hq;
-                e.rp[j] = dx * e.epx[j] + dy * e.epy[j] + hp;
-                e.rq[j] = dx * e.eqx[j] + dy * e.eqy[j] + hq;
-            }
+    }
+
+    /// Rates of `p` and `q` at every node along `(dx, dy)`.
+    fn combine_full(&self, w: &mut Workspace, dx: f64, dy: f64) {
+        self.combine(w, dx, dy);
+        let e = &mut w.engine;
+        for j in 0..e.rp.len() {
+            e.rp[j] = dx * e.tpx[j] + dy * e.tpy[j];
+            e.rq[j] = dx * e.tqx[j] + dy * e.tqy[j];
         }
     }
 
     /// The first event in `(0, remaining]` of the segment with the cached
     /// set, or a request to solve the rate problem here first.
-    fn scan(&self, w: &Workspace, dy: f64, remaining: f64) -> (Stop, f64, bool) {
+    fn scan(&self, w: &Workspace, dx: f64, dy: f64, remaining: f64) -> (Stop, f64, bool) {
         let f = self.material.friction();
         let e = &w.engine;
         let mut t_min = remaining;
         let mut stop = Stop::End;
         let mut need_rates = false;
-        let scale = e
-            .set
-            .iter()
-            .map(|&(j, _)| e.rg[j].abs())
-            .fold(0.0, f64::max);
-        for &(j, sg) in &e.set {
-            if sg * e.rg[j] < -DG_TOL * scale {
-                need_rates = true;
-            }
+        let n = e.tpx.len();
+        if !e.set.is_empty() {
+            // A slip rate against its direction: the set must be decided anew.
+            let (scale, worst) = rate_extremes(&e.rg[..n], &e.sgn[..n]);
+            need_rates |= worst < -DG_TOL * scale;
         }
-        for j in 0..e.rp.len() {
-            let (p, q, a, b) = (self.pressure[j], self.shear[j], e.rp[j], e.rq[j]);
-            if a < 0.0 {
-                let t = p.max(0.0) / -a;
-                if t < t_min {
-                    t_min = t;
-                    stop = Stop::Separation(j);
-                }
-            }
-            if !e.dirs[j].is_slipping() {
-                // Slack on the forward (sigma = 1) and backward side.
-                for sigma in [1.0, -1.0] {
-                    let h1 = f * a - sigma * b;
-                    let h0 = f * p - sigma * q;
-                    if h1 < -RATE_TOL && h0 + remaining * h1 < -TRACTION_TOL {
-                        if h0 <= TRACTION_TOL {
-                            need_rates = true;
-                        } else {
-                            let t = h0 / -h1;
-                            if t < t_min {
-                                t_min = t;
-                                stop = Stop::Entry;
-                            }
-                        }
-                    }
-                }
-            }
+        let (p, q) = (&self.pressure[..n], &self.shear[..n]);
+        let (tpx, tpy, tqx, tqy) = (&e.tpx[..n], &e.tpy[..n], &e.tqx[..n], &e.tqy[..n]);
+        // First a branch-free pass that only asks whether any node could
+        // reach an event before the end of the segment (the common answer
+        // is no); slip nodes get an infinite slack.
+        let lowest = end_margin(
+            [p, q, tpx, tpy, tqx, tqy, &e.off[..n]],
+            f,
+            remaining * dx,
+            remaining * dy,
+        );
+        if lowest < 0.0 {
+            self.locate(w, dx, dy, remaining, &mut t_min, &mut stop, &mut need_rates);
         }
         if dy != 0.0 {
             let y = self.load.y();
@@ -517,41 +623,102 @@ impl Contact {
         (stop, t_min, need_rates)
     }
 
-    /// Move by `t` of the segment parameter with the cached set, to `load`.
-    fn move_along(&mut self, w: &mut Workspace, t: f64, load: LoadPoint) {
+    /// The exact first event among the nodes (the slow part of [`Self::scan`],
+    /// only when some node may reach one).
+    #[allow(clippy::too_many_arguments)]
+    fn locate(
+        &self,
+        w: &Workspace,
+        dx: f64,
+        dy: f64,
+        remaining: f64,
+        t_min: &mut f64,
+        stop: &mut Stop,
+        need_rates: &mut bool,
+    ) {
         let f = self.material.friction();
-        let n = self.nodes();
         let e = &w.engine;
-        self.increment.segments += 1;
-        self.load = load;
-        let slipping = !e.set.is_empty() && t > 0.0;
-        if slipping {
-            let mut before = 0.0;
-            for &(j, _) in &e.set {
-                let dg = t * e.rg[j];
-                before += self.pressure[j] * dg.abs();
-                self.slip[j] += dg;
-                if dg > 0.0 {
-                    self.increment.forward[j] += dg;
-                } else {
-                    self.increment.backward[j] -= dg;
+        let n = e.tpx.len();
+        let (p, q) = (&self.pressure[..n], &self.shear[..n]);
+        let (tpx, tpy, tqx, tqy) = (&e.tpx[..n], &e.tpy[..n], &e.tqx[..n], &e.tqy[..n]);
+        let stick = &e.stick[..n];
+        for j in 0..n {
+            let a = dx * tpx[j] + dy * tpy[j];
+            // Separation: p + t a = 0 (divide only when it comes first).
+            if a < 0.0 && p[j] < -a * *t_min {
+                *t_min = p[j].max(0.0) / -a;
+                *stop = Stop::Separation(j);
+            }
+            if stick[j] {
+                let b = dx * tqx[j] + dy * tqy[j];
+                // Slack f p - sigma q on the forward (sigma = 1) and
+                // backward side, and its rate.
+                for (h0, h1) in [(f * p[j] - q[j], f * a - b), (f * p[j] + q[j], f * a + b)] {
+                    if h1 < -RATE_TOL && h0 + remaining * h1 < -TRACTION_TOL {
+                        if h0 <= TRACTION_TOL {
+                            *need_rates = true;
+                        } else if h0 < -h1 * *t_min {
+                            *t_min = h0 / -h1;
+                            *stop = Stop::Entry;
+                        }
+                    }
                 }
             }
-            for j in 0..n {
-                self.residual_pressure[j] += t * e.rhp[j];
-                self.residual_shear[j] += t * e.rhq[j];
+        }
+    }
+
+    /// Move by `t` of the segment parameter with the cached set, to `load`.
+    fn move_along(&mut self, w: &mut Workspace, t: f64, dx: f64, dy: f64, load: LoadPoint) {
+        let f = self.material.friction();
+        let n = self.nodes();
+        let e = &mut w.engine;
+        self.increment.segments += 1;
+        self.load = load;
+        if t == 0.0 {
+            return;
+        }
+        let (tx, ty) = (t * dx, t * dy);
+        let slipping = !e.set.is_empty();
+        let mut before = 0.0;
+        if slipping {
+            let inc = &mut self.increment;
+            for (((g, fwd), bwd), r) in self
+                .slip
+                .iter_mut()
+                .zip(inc.forward.iter_mut())
+                .zip(inc.backward.iter_mut())
+                .zip(&e.rg)
+            {
+                let dg = t * r;
+                *g += dg;
+                *fwd += dg.max(0.0);
+                *bwd += (-dg).max(0.0);
             }
-            self.increment.slipped = true;
+            inc.slipped = true;
+            before = weighted_abs(&self.pressure, &e.rg, t);
+            for ((r, hx), hy) in self.residual_pressure.iter_mut().zip(&e.hpx).zip(&e.hpy) {
+                *r += tx * hx + ty * hy;
+            }
+            for ((r, hx), hy) in self.residual_shear.iter_mut().zip(&e.hqx).zip(&e.hqy) {
+                *r += tx * hx + ty * hy;
+            }
+        }
+        e.since_refresh += 1;
+        if e.since_refresh >= 64 {
+            e.since_refresh = 0;
             self.refresh_tractions();
-            let after: f64 = e
-                .set
-                .iter()
-                .map(|&(j, _)| self.pressure[j] * (t * e.rg[j]).abs())
-                .sum();
+        } else {
+            for ((p, ax), ay) in self.pressure.iter_mut().zip(&e.tpx).zip(&e.tpy) {
+                *p += tx * ax + ty * ay;
+            }
+            for ((q, bx), by) in self.shear.iter_mut().zip(&e.tqx).zip(&e.tqy) {
+                *q += tx * bx + ty * by;
+            }
+        }
+        if slipping {
+            let after = weighted_abs(&self.pressure[..n], &e.rg[..n], t);
             let dtheta = 2.0 * PI / n as f64;
             self.increment.dissipation += 0.5 * f * 0.5 * (before + after) * dtheta;
-        } else {
-            self.refresh_tractions();
         }
     }
 
@@ -594,7 +761,7 @@ impl Contact {
                     return Err(RateFailure::NotSettled);
                 }
             }
-            self.combine(w, dx, dy);
+            self.combine_full(w, dx, dy);
             let e = &mut w.engine;
             let scale = e
                 .set
@@ -616,10 +783,7 @@ impl Contact {
                 for sigma in [1.0, -1.0] {
                     let h0 = f * p - sigma * q;
                     let h1 = f * e.rp[j] - sigma * e.rq[j];
-                    if h0 <= TRACTION_TOL
-                        && h1 < -RATE_TOL
-                        && h0 + remaining * h1 < -TRACTION_TOL
-                    {
+                    if h0 <= TRACTION_TOL && h1 < -RATE_TOL && h0 + remaining * h1 < -TRACTION_TOL {
                         e.trial[j] = if sigma > 0.0 {
                             SlipDirection::Forward
                         } else {
@@ -699,13 +863,7 @@ impl Contact {
                 self.increment.segments += 1;
                 self.increment.factorisations += trial.factorisations;
                 for (j, &d) in trial.slip_increment.iter().enumerate() {
-                    if d > 0.0 {
-                        self.increment.forward[j] += d;
-                        self.increment.slipped = true;
-                    } else if d < 0.0 {
-                        self.increment.backward[j] -= d;
-                        self.increment.slipped = true;
-                    }
+                    self.increment.add_slip(j, d);
                 }
                 if trial.directions != self.directions {
                     self.increment.set_changed = true;

@@ -10,8 +10,8 @@
 
 use std::f64::consts::PI;
 
-use super::operators::{FftScratch, Operators};
 use super::increment::{Engine, Increment};
+use super::operators::{FftScratch, Operators};
 use super::reduced::ReducedSolver;
 use crate::params::{LoadPoint, Material};
 
