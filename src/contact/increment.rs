@@ -756,10 +756,9 @@ impl Contact {
         let max_iterations = 4 * n + 20;
         let mut settled = false;
         for iteration in 1..=max_iterations {
-            if !w.engine.valid || w.engine.dirs != w.engine.trial {
-                if !self.responses_for_trial(w) {
-                    return Err(RateFailure::NotSettled);
-                }
+            if (!w.engine.valid || w.engine.dirs != w.engine.trial) && !self.responses_for_trial(w)
+            {
+                return Err(RateFailure::NotSettled);
             }
             self.combine_full(w, dx, dy);
             let e = &mut w.engine;
