@@ -1,10 +1,14 @@
-//! Speed of the physics core: one increment with a partial slip zone, one
-//! run to the steady state, and the Fig. 3 sweep.
+//! Speed of the physics core: one increment with a partial slip zone (the
+//! finite-step solve, and the exact advance with an unchanged slip set or
+//! stick only), runs to the steady state (N = 128 and N = 1024), and the
+//! Fig. 3 sweep.
 //!
 //! `cargo bench --bench solver` (add `-- fig3` for the sweep alone).
 
 use std::f64::consts::PI;
+use std::hint::black_box;
 use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use shakedown::analysis::sweep::SweepSpec;
@@ -49,6 +53,72 @@ fn increment(cr: &mut Criterion) {
     });
 }
 
+/// A contact advanced exactly into a partial slip zone, and a next load
+/// point close enough that the slip set does not change on the way.
+fn unchanged_set() -> (Contact, LoadPoint) {
+    let disc = Discretisation::default();
+    let mut c = Contact::new(Material::paper(), operators(&disc));
+    let target = LoadPoint::new(2.0, 5.5);
+    let steps = 100;
+    for i in 1..=steps {
+        c.advance(LoadPoint::ORIGIN.lerp(target, i as f64 / steps as f64))
+            .unwrap();
+    }
+    let mut dy = 0.02;
+    loop {
+        let next = LoadPoint::new(2.0, 5.5 + dy);
+        let mut probe = c.clone();
+        probe.advance(next).unwrap();
+        let inc = probe.last_increment();
+        if inc.events.is_empty() && inc.segments == 1 && !inc.set_changed {
+            // Warm the cached responses along this direction.
+            return (c, next);
+        }
+        dy *= 0.5;
+        assert!(dy > 1e-9, "no increment without an event");
+    }
+}
+
+/// Time `iters` consecutive increments of `span / K` from `contact` along
+/// the straight `span`, starting over (untimed clone) every `K` increments.
+fn consecutive(contact: &Contact, to: LoadPoint, iters: u64) -> Duration {
+    const K: u64 = 100;
+    let from = contact.load();
+    let mut total = Duration::ZERO;
+    let mut done = 0;
+    while done < iters {
+        let mut c = contact.clone();
+        let chunk = K.min(iters - done);
+        let start = Instant::now();
+        for i in 1..=chunk {
+            c.advance(from.lerp(to, i as f64 / K as f64)).unwrap();
+        }
+        total += start.elapsed();
+        black_box(&c);
+        done += chunk;
+    }
+    total
+}
+
+fn exact_increment(cr: &mut Criterion) {
+    let (contact, next) = unchanged_set();
+    let slipping = contact
+        .directions()
+        .iter()
+        .filter(|d| d.is_slipping())
+        .count();
+    assert!(slipping > 10 && slipping < 128, "{slipping} nodes slipping");
+    cr.bench_function("advance, unchanged partial slip set, N = 128", |b| {
+        b.iter_custom(|iters| consecutive(&contact, next, iters))
+    });
+    let disc = Discretisation::default();
+    let stick = Contact::new(Material::paper(), operators(&disc));
+    let to = LoadPoint::new(0.5, 0.5);
+    cr.bench_function("advance, stick only, N = 128", |b| {
+        b.iter_custom(|iters| consecutive(&stick, to, iters))
+    });
+}
+
 fn run_to_steady(cr: &mut Criterion) {
     let mut group = cr.benchmark_group("run to steady state");
     group.sample_size(20);
@@ -74,6 +144,18 @@ fn run_to_steady(cr: &mut Criterion) {
             })
         });
     }
+    group.bench_function("lambda 5.5, phi 0, N = 1024", |b| {
+        b.iter(|| {
+            let mut s = Stepper::new(
+                Material::paper(),
+                Discretisation::new(1024, 400).unwrap(),
+                &Initial::Direct,
+                Cycle::paper(5.5, 0.0).unwrap(),
+                StepOptions::default(),
+            );
+            s.run_to_steady().unwrap()
+        })
+    });
     group.finish();
 }
 
@@ -100,5 +182,5 @@ fn fig3(cr: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, increment, run_to_steady, fig3);
+criterion_group!(benches, increment, exact_increment, run_to_steady, fig3);
 criterion_main!(benches);

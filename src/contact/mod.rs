@@ -1,9 +1,11 @@
 //! The contact: residual-traction operators and the incremental frictional
 //! solver. Knows nothing of paths, cycles or any user interface.
 
+mod increment;
 mod operators;
 mod reduced;
 mod solver;
 
+pub use increment::{ContactEvent, ContactEventKind, Increment};
 pub use operators::Operators;
 pub use solver::{Contact, ContactError, SlipDirection, Trial};

@@ -114,6 +114,10 @@ pub struct ReducedSolver {
     z_rows: Vec<Vec<f64>>,
     /// Whether the base matrix is known for the signs in `base`.
     valid: bool,
+    /// The set of the last solve, whose plan and capacitance LU are still
+    /// in place: a further solve with the same set skips both.
+    planned: Vec<(usize, f64)>,
+    planned_ok: bool,
     pub factorisations: usize,
 }
 
@@ -141,6 +145,8 @@ impl ReducedSolver {
             t: vec![0.0; MAX_RANK],
             z_rows: Vec::new(),
             valid: false,
+            planned: Vec::with_capacity(nodes),
+            planned_ok: false,
             factorisations: 0,
         }
     }
@@ -191,10 +197,21 @@ impl ReducedSolver {
         rhs: &[f64],
         x: &mut [f64],
     ) {
-        if !self.valid || !self.plan(set) {
-            self.refactorise(ops, friction, set);
-            self.items.clear();
-            self.added.clear();
+        let same = self.valid && self.planned_ok && self.planned.as_slice() == set;
+        if !same {
+            self.planned_ok = false;
+            if !self.valid || !self.plan(set) {
+                self.refactorise(ops, friction, set);
+                self.items.clear();
+                self.added.clear();
+            }
+            if !self.items.is_empty() {
+                self.fill_cache(ops, friction);
+                self.build_capacitance(ops, friction);
+            }
+            self.planned.clear();
+            self.planned.extend_from_slice(set);
+            self.planned_ok = true;
         }
         let k = self.base.len();
         let u = k + self.added.len();
@@ -212,8 +229,6 @@ impl ReducedSolver {
         self.base_lu.solve(&mut self.y[..k]);
 
         if !self.items.is_empty() {
-            self.fill_cache(ops, friction);
-            self.build_capacitance(ops, friction);
             let m = self.items.len();
             // t = Z^T y, then C t' = t, then x = y - Y t'.
             for i in 0..m {

@@ -10,6 +10,7 @@
 
 use std::f64::consts::PI;
 
+use super::increment::{Engine, Increment};
 use super::operators::{FftScratch, Operators};
 use super::reduced::ReducedSolver;
 use crate::model::{LoadPoint, Material};
@@ -65,7 +66,7 @@ pub enum ContactError {
     NotSettled { load: LoadPoint, iterations: usize },
 }
 
-fn most_negative(p: &[f64]) -> Option<(usize, f64)> {
+pub(super) fn most_negative(p: &[f64]) -> Option<(usize, f64)> {
     p.iter()
         .copied()
         .enumerate()
@@ -74,7 +75,7 @@ fn most_negative(p: &[f64]) -> Option<(usize, f64)> {
 }
 
 /// A hash of a slip set with directions, to notice a cycling active set.
-fn fingerprint(dirs: &[SlipDirection]) -> u64 {
+pub(super) fn fingerprint(dirs: &[SlipDirection]) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
     dirs.hash(&mut h);
@@ -82,9 +83,9 @@ fn fingerprint(dirs: &[SlipDirection]) -> u64 {
 }
 
 /// Tolerance on the friction inequality, in units of the traction `p0`.
-const TRACTION_TOL: f64 = 1e-12;
+pub(super) const TRACTION_TOL: f64 = 1e-12;
 /// A slip node whose `s dg` is below `-DG_TOL * max|dg|` has reversed.
-const DG_TOL: f64 = 1e-10;
+pub(super) const DG_TOL: f64 = 1e-10;
 
 /// The result of solving one increment, not yet committed.
 #[derive(Debug, Clone)]
@@ -119,7 +120,7 @@ impl Trial {
 /// that a run allocates little per increment, with the reduced-system
 /// solver and its factorisations.
 #[derive(Clone)]
-struct Workspace {
+pub(super) struct Workspace {
     p0: Vec<f64>,
     q0: Vec<f64>,
     set: Vec<(usize, f64)>,
@@ -127,12 +128,14 @@ struct Workspace {
     x: Vec<f64>,
     pressure_change: Vec<f64>,
     relief: Vec<f64>,
-    fft: FftScratch,
-    reduced: ReducedSolver,
+    pub(super) fft: FftScratch,
+    pub(super) reduced: ReducedSolver,
+    /// The exact path-following increment's cached responses and scratch.
+    pub(super) engine: Engine,
 }
 
 impl Workspace {
-    fn new(n: usize) -> Self {
+    pub(super) fn new(n: usize) -> Self {
         Self {
             p0: vec![0.0; n],
             q0: vec![0.0; n],
@@ -143,6 +146,7 @@ impl Workspace {
             relief: vec![0.0; n],
             fft: FftScratch::default(),
             reduced: ReducedSolver::new(n),
+            engine: Engine::new(n),
         }
     }
 }
@@ -151,19 +155,21 @@ impl Workspace {
 /// the slip set of the last increment.
 #[derive(Clone)]
 pub struct Contact {
-    material: Material,
-    ops: std::sync::Arc<Operators>,
-    sin: Vec<f64>,
-    cos: Vec<f64>,
-    load: LoadPoint,
-    slip: Vec<f64>,
-    residual_pressure: Vec<f64>,
-    residual_shear: Vec<f64>,
-    pressure: Vec<f64>,
-    shear: Vec<f64>,
-    directions: Vec<SlipDirection>,
+    pub(super) material: Material,
+    pub(super) ops: std::sync::Arc<Operators>,
+    pub(super) sin: Vec<f64>,
+    pub(super) cos: Vec<f64>,
+    pub(super) load: LoadPoint,
+    pub(super) slip: Vec<f64>,
+    pub(super) residual_pressure: Vec<f64>,
+    pub(super) residual_shear: Vec<f64>,
+    pub(super) pressure: Vec<f64>,
+    pub(super) shear: Vec<f64>,
+    pub(super) directions: Vec<SlipDirection>,
     /// Taken out during a solve so the rest of `self` stays borrowable.
-    work: Option<Workspace>,
+    pub(super) work: Option<Workspace>,
+    /// What the last [`Contact::advance`] did.
+    pub(super) increment: Increment,
 }
 
 impl std::fmt::Debug for Contact {
@@ -193,6 +199,7 @@ impl Contact {
             shear: vec![0.0; n],
             directions: vec![SlipDirection::Stick; n],
             work: Some(Workspace::new(n)),
+            increment: Increment::new(n),
         };
         c.refresh();
         c
@@ -205,6 +212,7 @@ impl Contact {
         self.residual_pressure = self.ops.residual_pressure(&self.slip);
         self.residual_shear = self.ops.residual_shear(&self.slip);
         self.directions.fill(SlipDirection::Stick);
+        self.invalidate_responses();
         self.refresh();
     }
 
@@ -213,6 +221,7 @@ impl Contact {
     pub fn set_load_elastic(&mut self, load: LoadPoint) {
         self.load = load;
         self.directions.fill(SlipDirection::Stick);
+        self.invalidate_responses();
         self.refresh();
     }
 
@@ -301,7 +310,7 @@ impl Contact {
         result
     }
 
-    fn solve_with(
+    pub(super) fn solve_with(
         &self,
         load: LoadPoint,
         f: f64,
@@ -432,7 +441,7 @@ impl Contact {
     }
 
     /// Tractions at `load` with the current slip, into the given buffers.
-    fn tractions_into(&self, load: LoadPoint, p: &mut [f64], q: &mut [f64]) {
+    pub(super) fn tractions_into(&self, load: LoadPoint, p: &mut [f64], q: &mut [f64]) {
         let loads = self.material.to_loads(load);
         let two_pi = 2.0 * PI;
         let pr = self.material.beta() * loads.radial / two_pi;
@@ -444,7 +453,7 @@ impl Contact {
         }
     }
 
-    fn separation(&self, load: LoadPoint, node: usize, pressure: f64) -> ContactError {
+    pub(super) fn separation(&self, load: LoadPoint, node: usize, pressure: f64) -> ContactError {
         ContactError::Separation {
             load,
             node,
@@ -468,6 +477,9 @@ impl Contact {
         self.load = trial.load;
         self.pressure = trial.pressure;
         self.shear = trial.shear;
+        if self.directions != trial.directions {
+            self.invalidate_responses();
+        }
         self.directions = trial.directions;
     }
 }

@@ -10,7 +10,7 @@ use serde::Serialize;
 use super::driver::{drive, Control, Goal, Silent};
 use super::zones::{slip_zones, zone_changes, ZoneChange};
 use crate::analysis::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
-use crate::contact::{Contact, ContactError, Operators, SlipDirection, Trial};
+use crate::contact::{Contact, ContactError, ContactEventKind, Operators, SlipDirection};
 use crate::model::path::{entry_waypoints, segments, Initial, Segment};
 use crate::model::{Cycle, Discretisation, LoadPoint, Material};
 
@@ -37,8 +37,9 @@ pub enum StepError {
 /// Options of the stepper.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct StepOptions {
-    /// Bisections of an increment in which a slip node sticks again
-    /// (advancing stick): the locked-in slip there is history.
+    /// Bisections of an increment in which a slip node sticks again.
+    /// Unused: advancing stick is now located exactly within the increment
+    /// (see `contact::Increment`); kept for the options' format.
     pub stick_bisections: usize,
     /// Bisections of an increment whose active set does not settle.
     pub failure_bisections: usize,
@@ -78,9 +79,23 @@ pub enum Event {
         /// What happened to the zones (appeared, split, merged, vanished).
         changes: Vec<ZoneChange>,
     },
-    /// Nodes that slipped stuck again; the increment was cut into
-    /// `substeps` sub-increments to resolve the slip locked in there.
-    AdvancingStick { nodes: Vec<usize>, substeps: usize },
+    /// Nodes that slipped stuck again (their slip rate reached zero), at
+    /// the exact load point `load` within the increment, at `omega t =
+    /// time` in the cycle (`None` in the transient). The increment has
+    /// `substeps` straight sub-segments with a fixed slip set.
+    AdvancingStick {
+        nodes: Vec<usize>,
+        substeps: usize,
+        time: Option<f64>,
+        load: LoadPoint,
+    },
+    /// Stick nodes reached `|q| = f p` and started to slip, at the exact
+    /// load point `load` (`omega t = time` in the cycle).
+    SlipEntry {
+        nodes: Vec<usize>,
+        time: Option<f64>,
+        load: LoadPoint,
+    },
     /// The transient is over: the next step is the first of cycle 1.
     TransientFinished,
     /// A cycle ended.
@@ -91,9 +106,10 @@ pub enum Event {
     },
     /// The steady state was reached and classified.
     SteadyStateReached(Summary),
-    /// The whole interface slides: the run ends here.
+    /// The whole interface slides: `|y|` reached `2 pi` at `load` (exact,
+    /// interpolated within the increment). The run ends here.
     GrossSlip { load: LoadPoint, time: Option<f64> },
-    /// The pressure went negative: the run ends here.
+    /// The pressure reached zero at `theta`, at `load`: the run ends here.
     Separation {
         load: LoadPoint,
         time: Option<f64>,
@@ -124,15 +140,18 @@ pub struct Summary {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct StepReport {
     pub events: Vec<Event>,
-    /// Sub-increments taken (1 unless the increment was bisected).
+    /// Straight sub-segments with a fixed slip set (1 unless an event
+    /// happened inside the increment).
     pub substeps: usize,
+    /// Whether the slip set or a direction changed during the step.
+    pub slip_set_changed: bool,
     /// Dissipation of this increment.
     pub dissipation: f64,
     /// Nodes that went from slip to stick during this step.
     pub newly_stuck: Vec<usize>,
     /// LU factorisations computed during this step.
     pub factorisations: usize,
-    /// Active-set iterations during this step (discarded trials included).
+    /// Rate problems solved during this step (0 while the slip set holds).
     pub iterations: usize,
 }
 
@@ -162,6 +181,9 @@ pub struct Stepper {
     increments: usize,
     /// An initial condition that could not be set up: the first step reports it.
     unresolved: Option<StepError>,
+    /// The slip directions at the last reported change of the slip set,
+    /// for the slip-zone topology of the next one.
+    zone_dirs: Vec<SlipDirection>,
 }
 
 /// Set up the shared pieces of a run once.
@@ -228,6 +250,7 @@ impl Stepper {
         let transient = segments(&w, disc.transient_step());
         let nodes = contact.nodes();
         let rotation = contact.rotation();
+        let contact_dirs = contact.directions().to_vec();
         let phase = if transient.is_empty() {
             Phase::Cycle {
                 cycle: 1,
@@ -252,6 +275,7 @@ impl Stepper {
             status: Status::Running,
             increments: 0,
             unresolved: None,
+            zone_dirs: contact_dirs,
         }
     }
 
@@ -329,10 +353,16 @@ impl Stepper {
     }
     /// `omega t` in the cycle, or `None` in the transient.
     pub fn time(&self) -> Option<f64> {
+        self.time_at(0.0)
+    }
+
+    /// `omega t` at parameter `s` of the current increment, or `None` in
+    /// the transient.
+    fn time_at(&self, s: f64) -> Option<f64> {
         match self.phase {
             Phase::Transient { .. } => None,
             Phase::Cycle { increment, .. } => {
-                Some(2.0 * PI * increment as f64 / self.disc.steps_per_cycle() as f64)
+                Some(2.0 * PI * (increment as f64 + s) / self.disc.steps_per_cycle() as f64)
             }
         }
     }
@@ -375,97 +405,118 @@ impl Stepper {
         if self.is_finished() {
             return Ok(report);
         }
-        let before: Vec<SlipDirection> = self.contact.directions().to_vec();
-        match self.advance(0.0, 1.0, 0, 0, &mut report) {
+        let events_before = report.events.len();
+        match self.advance(0.0, 1.0, 0, &mut report) {
             Ok(()) => {}
-            Err(ContactError::NotSettled { load, .. }) => {
+            Err((ContactError::NotSettled { load, .. }, _)) => {
                 return Err(StepError::NotSettled {
                     load,
                     phase: self.phase_label(),
                     bisections: self.options.failure_bisections,
                 })
             }
-            Err(e) => {
-                self.end(e, &mut report);
+            Err((e, at)) => {
+                self.end(e, at, &mut report);
                 return Ok(report);
             }
         }
         self.increments += 1;
-        if before != self.contact.directions() {
+        for event in &mut report.events[events_before..] {
+            if let Event::AdvancingStick { substeps, .. } = event {
+                *substeps = report.substeps;
+            }
+        }
+        if report.slip_set_changed && self.contact.directions() != self.zone_dirs.as_slice() {
             let dirs = self.contact.directions();
             let now = slip_zones(dirs);
             report.events.push(Event::SlipSetChanged {
                 slipping: dirs.iter().filter(|d| d.is_slipping()).count(),
                 zones: now.len(),
-                changes: zone_changes(&slip_zones(&before), &now, dirs.len()),
+                changes: zone_changes(&slip_zones(&self.zone_dirs), &now, dirs.len()),
             });
+            self.zone_dirs.clone_from_slice(dirs);
         }
         if !report.newly_stuck.is_empty() {
             report.newly_stuck.sort_unstable();
             report.newly_stuck.dedup();
-            report.events.push(Event::AdvancingStick {
-                nodes: report.newly_stuck.clone(),
-                substeps: report.substeps,
-            });
         }
         self.move_on(&mut report);
         Ok(report)
     }
 
-    /// Solve the increment between parameters `s0` and `s1`, bisecting on
-    /// advancing stick and where the active set does not settle.
+    /// Advance the increment from parameter `s0` to `s1`. The contact
+    /// locates every event on the way exactly (entry into slip, advancing
+    /// stick, gross slip, separation); only where its rate problem does not
+    /// settle is the rest of the increment bisected, as a last resort. On an
+    /// error, the parameter the contact reached comes with it.
     fn advance(
         &mut self,
         s0: f64,
         s1: f64,
-        stick_depth: usize,
         fail_depth: usize,
         report: &mut StepReport,
-    ) -> Result<(), ContactError> {
+    ) -> Result<(), (ContactError, f64)> {
         let target = self.point(s1);
-        match self.contact.solve(target) {
-            Ok(trial) => {
-                report.factorisations += trial.factorisations;
-                report.iterations += trial.iterations;
-                let stuck = trial.advancing_stick(self.contact.directions());
-                if !stuck.is_empty() && stick_depth < self.options.stick_bisections {
-                    let mid = 0.5 * (s0 + s1);
-                    self.advance(s0, mid, stick_depth + 1, fail_depth, report)?;
-                    return self.advance(mid, s1, stick_depth + 1, fail_depth, report);
-                }
-                report.newly_stuck.extend(stuck);
-                self.record(trial, report);
-                Ok(())
-            }
+        let result = self.contact.advance(target);
+        let reached = s0 + self.contact.last_increment().reached * (s1 - s0);
+        self.record(s0, s1, report);
+        match result {
+            Ok(()) => Ok(()),
             Err(ContactError::NotSettled { .. })
-                if fail_depth < self.options.failure_bisections =>
+                if fail_depth < self.options.failure_bisections && reached < s1 =>
             {
-                let mid = 0.5 * (s0 + s1);
-                self.advance(s0, mid, stick_depth, fail_depth + 1, report)?;
-                self.advance(mid, s1, stick_depth, fail_depth + 1, report)
+                let mid = 0.5 * (reached + s1);
+                self.advance(reached, mid, fail_depth + 1, report)?;
+                self.advance(mid, s1, fail_depth + 1, report)
             }
-            Err(e) => Err(e),
+            Err(e) => Err((e, reached)),
         }
     }
 
-    fn record(&mut self, trial: Trial, report: &mut StepReport) {
-        report.substeps += 1;
-        report.dissipation += trial.dissipation;
+    /// Collect what the contact's last advance (parameters `s0` to `s1` of
+    /// the increment) did: dissipation, per-node slip, events.
+    fn record(&mut self, s0: f64, s1: f64, report: &mut StepReport) {
+        let inc = self.contact.last_increment();
+        report.substeps += inc.segments;
+        report.dissipation += inc.dissipation;
+        report.factorisations += inc.factorisations;
+        report.iterations += inc.rate_solves;
+        report.slip_set_changed |= inc.set_changed;
+        for ev in &inc.events {
+            let time = self.time_at(s0 + ev.fraction * (s1 - s0));
+            let nodes = ev.nodes.clone();
+            report.events.push(match ev.kind {
+                ContactEventKind::AdvancingStick => {
+                    report.newly_stuck.extend_from_slice(&nodes);
+                    Event::AdvancingStick {
+                        nodes,
+                        substeps: 0,
+                        time,
+                        load: ev.load,
+                    }
+                }
+                ContactEventKind::SlipEntry => Event::SlipEntry {
+                    nodes,
+                    time,
+                    load: ev.load,
+                },
+            });
+        }
         if matches!(self.phase, Phase::Cycle { .. }) {
-            self.current.dissipation += trial.dissipation;
-            for (j, &d) in trial.slip_increment.iter().enumerate() {
-                if d > 0.0 {
-                    self.current.forward[j] += d;
-                } else if d < 0.0 {
-                    self.current.backward[j] -= d;
+            self.current.dissipation += inc.dissipation;
+            if inc.slipped {
+                for (j, (f, b)) in inc.forward.iter().zip(&inc.backward).enumerate() {
+                    self.current.forward[j] += f;
+                    self.current.backward[j] += b;
                 }
             }
         }
-        self.contact.commit(trial);
     }
 
-    fn end(&mut self, error: ContactError, report: &mut StepReport) {
-        let time = self.time();
+    /// The run ends at parameter `at` of the current increment, where the
+    /// contact is and the error's load point is.
+    fn end(&mut self, error: ContactError, at: f64, report: &mut StepReport) {
+        let time = self.time_at(at);
         let (state, load, theta, event) = match error {
             ContactError::GrossSlip { load } => (
                 SteadyState::GrossSlip,

@@ -16,6 +16,8 @@ use crate::stepping::{slip_zones, Event, ZoneChange};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum EventKind {
     AdvancingStick,
+    /// Stick nodes reached `|q| = f p` and began to slip.
+    SlipEntry,
     Appeared,
     Split,
     Merged,
@@ -30,6 +32,7 @@ impl EventKind {
     pub fn name(self) -> &'static str {
         match self {
             EventKind::AdvancingStick => "advancing stick",
+            EventKind::SlipEntry => "slip entry",
             EventKind::Appeared => "zone appeared",
             EventKind::Split => "zone split",
             EventKind::Merged => "zones merged",
@@ -59,9 +62,10 @@ impl Default for Filter {
 }
 
 /// The kinds `k` cycles through, `None` being "any notable event".
-pub const KINDS: [Option<EventKind>; 8] = [
+pub const KINDS: [Option<EventKind>; 9] = [
     None,
     Some(EventKind::AdvancingStick),
+    Some(EventKind::SlipEntry),
     Some(EventKind::Appeared),
     Some(EventKind::Split),
     Some(EventKind::Merged),
@@ -76,7 +80,10 @@ pub const MIN_NODES: [usize; 8] = [1, 2, 4, 8, 16, 32, 64, 128];
 impl Filter {
     pub fn matches(&self, e: &LogEntry) -> bool {
         let kind_ok = match self.kind {
-            None => !matches!(e.kind, EventKind::Cycle | EventKind::Vanished),
+            None => !matches!(
+                e.kind,
+                EventKind::Cycle | EventKind::Vanished | EventKind::SlipEntry
+            ),
             Some(k) => k == e.kind,
         };
         kind_ok && (e.kind != EventKind::AdvancingStick || e.nodes >= self.min_nodes)
@@ -162,15 +169,37 @@ pub fn entries(events: &[Event], at: At, directions: &[SlipDirection]) -> Vec<Lo
                     out.push(entry(kind, 0, theta_range(&nodes, n), change.to_string()));
                 }
             }
-            Event::AdvancingStick { nodes, substeps } => out.push(entry(
-                EventKind::AdvancingStick,
-                nodes.len(),
-                theta_range(nodes, n),
-                format!(
-                    "advancing stick at {} ({substeps} sub-increments)",
-                    plural(nodes.len(), "node")
-                ),
-            )),
+            Event::AdvancingStick {
+                nodes,
+                substeps,
+                time,
+                load,
+            } => {
+                // Located exactly within the increment by the engine.
+                let mut e = entry(
+                    EventKind::AdvancingStick,
+                    nodes.len(),
+                    theta_range(nodes, n),
+                    format!(
+                        "advancing stick at {} ({substeps} sub-segments)",
+                        plural(nodes.len(), "node")
+                    ),
+                );
+                e.load = (load.x(), load.y());
+                e.time = time.or(e.time);
+                out.push(e);
+            }
+            Event::SlipEntry { nodes, time, load } => {
+                let mut e = entry(
+                    EventKind::SlipEntry,
+                    nodes.len(),
+                    theta_range(nodes, n),
+                    format!("slip entry at {}", plural(nodes.len(), "node")),
+                );
+                e.load = (load.x(), load.y());
+                e.time = time.or(e.time);
+                out.push(e);
+            }
             Event::TransientFinished => out.push(entry(
                 EventKind::Cycle,
                 0,

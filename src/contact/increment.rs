@@ -1,0 +1,900 @@
+//! The exact, event-driven load increment (issue 9).
+//!
+//! With the slip set `S` and its directions `s` fixed, the incremental
+//! problem of model.md section 3 is linear: the slip rate on `S` solves
+//! `(-|D| - f diag(s) H)_SS g'_S = -(q_el' - s f p_el')_S`, and the rates of
+//! `p = p_el + H g` and `q = q_el - |D| g` follow at every node. The elastic
+//! parts are linear in the load point `(x, y)` (model.md section 2), so one
+//! pair of response vectors per slip set, to a unit change of `x` and of
+//! `y`, gives the rates of `g`, `p` and `q` for any direction of the load.
+//!
+//! Within one increment the load moves on the **straight segment** between
+//! the increment's two end points (the cycle's ellipse is sampled at the end
+//! points of its increments only), so with `S` fixed everything is linear in
+//! the increment parameter `s` in `[0, 1]`. [`Contact::advance`] walks the
+//! segment from event to event:
+//!
+//! * a stick node reaching `|q| = f p` (entry into slip),
+//! * `p` reaching 0 (separation),
+//! * `|y|` reaching `2 pi` (gross slip: the friction torque limit),
+//!
+//! located in closed form from the linear rates. At an event (and at the
+//! start of an increment, where the direction of the load changes) the new
+//! slip set is decided by the **rate problem**: the active-set iteration of
+//! model.md section 3 applied to the rates, over the nodes at the friction
+//! limit. A slip node whose slip rate would oppose its direction sticks there
+//! (advancing stick, located at the exact load point); a node at the limit
+//! that the load pushes out enters the slip set. While the set does not
+//! change an increment costs `O(N)`: no linear solve, no FFT, no allocation.
+//!
+//! The dissipation of a sub-segment, `f/2 int p |dg| dtheta`, is exact: `p`
+//! is linear and `dg` uniform in `s` there, so the trapezoid of `p` over the
+//! sub-segment times `|dg|` is the integral.
+
+use std::f64::consts::PI;
+
+use super::solver::{fingerprint, Contact, ContactError, SlipDirection, Workspace};
+use super::solver::{DG_TOL, TRACTION_TOL};
+use crate::model::LoadPoint;
+
+/// A stick node at the limit leaves it only if the slack `f p - |q|` falls
+/// faster than this per unit of the increment parameter: over a whole
+/// increment the friction law then holds to `RATE_TOL`, well inside
+/// [`TRACTION_TOL`].
+const RATE_TOL: f64 = 1e-13;
+/// `|y|` within this relative distance of `2 pi` is on the torque limit.
+const GROSS_TOL: f64 = 1e-9;
+
+/// `point` moved onto the torque limit: `|y|` the first number above
+/// `2 pi` in the direction `dy` (gross slip is `|y| > 2 pi`, model.md
+/// section 2), `x` unchanged.
+fn on_torque_limit(point: LoadPoint, dy: f64) -> LoadPoint {
+    let beyond = f64::from_bits((2.0 * PI).to_bits() + 1);
+    LoadPoint::new(point.x(), beyond.copysign(dy))
+}
+
+/// `sum_j p_j |t r_j|`, in four interleaved partial sums.
+fn weighted_abs(p: &[f64], r: &[f64], t: f64) -> f64 {
+    let mut acc = [0.0; 4];
+    let (pc, rc) = (p.chunks_exact(4), r.chunks_exact(4));
+    let (pt, rt) = (pc.remainder(), rc.remainder());
+    for (pp, rr) in pc.zip(rc) {
+        for i in 0..4 {
+            acc[i] += pp[i] * (t * rr[i]).abs();
+        }
+    }
+    let tail: f64 = pt.iter().zip(rt).map(|(p, r)| p * (t * r).abs()).sum();
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
+/// `(max |r|, min s r)` over the nodes, in four lanes.
+fn rate_extremes(r: &[f64], sgn: &[f64]) -> (f64, f64) {
+    let mut big = [0.0f64; 4];
+    let mut low = [0.0f64; 4];
+    let (rc, sc) = (r.chunks_exact(4), sgn.chunks_exact(4));
+    let (rt, st) = (rc.remainder(), sc.remainder());
+    for (rr, ss) in rc.zip(sc) {
+        for i in 0..4 {
+            let a = rr[i].abs();
+            big[i] = if a > big[i] { a } else { big[i] };
+            let v = ss[i] * rr[i];
+            low[i] = if v < low[i] { v } else { low[i] };
+        }
+    }
+    let mut scale = big.iter().fold(0.0f64, |m, &v| m.max(v));
+    let mut worst = low.iter().fold(0.0f64, |m, &v| m.min(v));
+    for (&r, &s) in rt.iter().zip(st) {
+        scale = scale.max(r.abs());
+        worst = worst.min(s * r);
+    }
+    (scale, worst)
+}
+
+/// The lowest margin at the end of the segment over the nodes: the end
+/// pressure, and the end slack `f p -+ q` (plus `TRACTION_TOL`, and
+/// infinite on slip nodes). Negative: some node may reach an event.
+fn end_margin(v: [&[f64]; 7], f: f64, ex: f64, ey: f64) -> f64 {
+    let [p, q, tpx, tpy, tqx, tqy, off] = v;
+    let margin = |p: f64, q: f64, px: f64, py: f64, qx: f64, qy: f64, off: f64| {
+        let ep = p + ex * px + ey * py;
+        let eq = q + ex * qx + ey * qy;
+        let fwd = f * ep - eq + off + TRACTION_TOL;
+        let bwd = f * ep + eq + off + TRACTION_TOL;
+        let m = if fwd < bwd { fwd } else { bwd };
+        if ep < m {
+            ep
+        } else {
+            m
+        }
+    };
+    let mut low = [f64::INFINITY; 4];
+    let chunks = p
+        .chunks_exact(4)
+        .zip(q.chunks_exact(4))
+        .zip(tpx.chunks_exact(4))
+        .zip(tpy.chunks_exact(4))
+        .zip(tqx.chunks_exact(4))
+        .zip(tqy.chunks_exact(4))
+        .zip(off.chunks_exact(4));
+    for ((((((p, q), px), py), qx), qy), o) in chunks {
+        let as4 = |s: &[f64]| -> [f64; 4] { s.try_into().expect("chunks of 4") };
+        let (p, q, px, py, qx, qy, o) =
+            (as4(p), as4(q), as4(px), as4(py), as4(qx), as4(qy), as4(o));
+        for i in 0..4 {
+            let m = margin(p[i], q[i], px[i], py[i], qx[i], qy[i], o[i]);
+            low[i] = if m < low[i] { m } else { low[i] };
+        }
+    }
+    let mut lowest = low.iter().fold(f64::INFINITY, |m, &v| m.min(v));
+    for j in p.len() - p.len() % 4..p.len() {
+        lowest = lowest.min(margin(p[j], q[j], tpx[j], tpy[j], tqx[j], tqy[j], off[j]));
+    }
+    lowest
+}
+
+/// What happened at an event inside an increment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContactEventKind {
+    /// Stick nodes reached `|q| = f p` and started to slip.
+    SlipEntry,
+    /// Slipping nodes stuck again (their slip rate reached zero).
+    AdvancingStick,
+}
+
+/// An event located exactly within an increment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactEvent {
+    pub kind: ContactEventKind,
+    /// Parameter in `[0, 1]` of the increment's straight segment.
+    pub fraction: f64,
+    /// The load point of the event.
+    pub load: LoadPoint,
+    /// The nodes involved, in increasing order.
+    pub nodes: Vec<usize>,
+}
+
+/// What the last [`Contact::advance`] did.
+#[derive(Debug, Clone)]
+pub struct Increment {
+    /// The segment's end points.
+    pub from: LoadPoint,
+    pub to: LoadPoint,
+    /// How far along the segment the contact got: 1 unless the run ended
+    /// (gross slip, separation) or the rate problem failed.
+    pub reached: f64,
+    /// `1/2 int q dg dtheta = f/2 int p |dg| dtheta` over the increment.
+    pub dissipation: f64,
+    /// Straight sub-segments with a fixed slip set.
+    pub segments: usize,
+    /// Entries into slip and advancing stick, in order.
+    pub events: Vec<ContactEvent>,
+    /// Positive slip of each node over the increment.
+    pub forward: Vec<f64>,
+    /// Negative slip of each node over the increment, as a positive number.
+    pub backward: Vec<f64>,
+    /// Whether any node slipped (`forward` and `backward` are zero if not).
+    pub slipped: bool,
+    /// Whether the slip set or a direction changed.
+    pub set_changed: bool,
+    /// Rate problems solved, and LU factorisations computed.
+    pub rate_solves: usize,
+    pub factorisations: usize,
+    /// The increment (or its rest) was solved by the finite-step active-set
+    /// iteration because the rate problem did not settle.
+    pub fallback: bool,
+}
+
+impl Increment {
+    pub(super) fn new(n: usize) -> Self {
+        Self {
+            from: LoadPoint::ORIGIN,
+            to: LoadPoint::ORIGIN,
+            reached: 0.0,
+            dissipation: 0.0,
+            segments: 0,
+            events: Vec::new(),
+            forward: vec![0.0; n],
+            backward: vec![0.0; n],
+            slipped: false,
+            set_changed: false,
+            rate_solves: 0,
+            factorisations: 0,
+            fallback: false,
+        }
+    }
+
+    /// Add slip `dg` of node `j` to `forward` / `backward`.
+    fn add_slip(&mut self, j: usize, dg: f64) {
+        if dg > 0.0 {
+            self.forward[j] += dg;
+            self.slipped = true;
+        } else if dg < 0.0 {
+            self.backward[j] -= dg;
+            self.slipped = true;
+        }
+    }
+
+    fn reset(&mut self, from: LoadPoint, to: LoadPoint) {
+        self.from = from;
+        self.to = to;
+        self.reached = 0.0;
+        self.dissipation = 0.0;
+        self.segments = 0;
+        self.events.clear();
+        if self.slipped {
+            self.forward.fill(0.0);
+            self.backward.fill(0.0);
+        }
+        self.slipped = false;
+        self.set_changed = false;
+        self.rate_solves = 0;
+        self.factorisations = 0;
+        self.fallback = false;
+    }
+}
+
+/// Cached responses of one slip set and the scratch of the increment.
+#[derive(Clone)]
+pub(crate) struct Engine {
+    /// Whether the responses belong to `dirs`.
+    valid: bool,
+    /// The slip set of the cached responses, and as `(node, sign)`.
+    dirs: Vec<SlipDirection>,
+    set: Vec<(usize, f64)>,
+    /// Slip rates on the set per unit `x` and `y` (zero elsewhere).
+    gx: Vec<f64>,
+    gy: Vec<f64>,
+    /// Residual pressure `H g'` and shear `-|D| g'` per unit `x` and `y`.
+    hpx: Vec<f64>,
+    hpy: Vec<f64>,
+    hqx: Vec<f64>,
+    hqy: Vec<f64>,
+    /// Elastic pressure and shear per unit `x` and `y`.
+    epx: Vec<f64>,
+    epy: Vec<f64>,
+    eqx: Vec<f64>,
+    eqy: Vec<f64>,
+    elastic_ready: bool,
+    /// Total pressure and shear (elastic + residual) per unit `x` and `y`.
+    tpx: Vec<f64>,
+    tpy: Vec<f64>,
+    tqx: Vec<f64>,
+    tqy: Vec<f64>,
+    /// Whether a node sticks in the cached set, and its slip sign (0 if it
+    /// sticks).
+    stick: Vec<bool>,
+    sgn: Vec<f64>,
+    /// 0 on stick nodes, infinity on slip nodes (their slack is not watched).
+    off: Vec<f64>,
+    /// Sub-segments since `p` and `q` were last recomputed from the
+    /// elastic and residual parts (between, they are updated by the rates).
+    since_refresh: usize,
+    /// Rates along the current segment: slip on the set; p and q at every
+    /// node (filled for the rate problem only).
+    rg: Vec<f64>,
+    rp: Vec<f64>,
+    rq: Vec<f64>,
+    /// Rate-problem scratch.
+    trial: Vec<SlipDirection>,
+    before: Vec<SlipDirection>,
+    seen: Vec<u64>,
+    rhs: Vec<f64>,
+    x: Vec<f64>,
+    full: Vec<f64>,
+    hbuf: Vec<f64>,
+    dbuf: Vec<f64>,
+}
+
+impl Engine {
+    fn totals(&mut self) {
+        for j in 0..self.tpx.len() {
+            self.tpx[j] = self.epx[j] + self.hpx[j];
+            self.tpy[j] = self.epy[j] + self.hpy[j];
+            self.tqx[j] = self.eqx[j] + self.hqx[j];
+            self.tqy[j] = self.eqy[j] + self.hqy[j];
+        }
+    }
+
+    pub(super) fn new(n: usize) -> Self {
+        let z = || vec![0.0; n];
+        Self {
+            valid: false,
+            dirs: vec![SlipDirection::Stick; n],
+            set: Vec::with_capacity(n),
+            gx: z(),
+            gy: z(),
+            hpx: z(),
+            hpy: z(),
+            hqx: z(),
+            hqy: z(),
+            epx: z(),
+            epy: z(),
+            eqx: z(),
+            eqy: z(),
+            elastic_ready: false,
+            tpx: z(),
+            tpy: z(),
+            tqx: z(),
+            tqy: z(),
+            stick: vec![true; n],
+            sgn: z(),
+            off: z(),
+            since_refresh: 0,
+            rg: z(),
+            rp: z(),
+            rq: z(),
+            trial: vec![SlipDirection::Stick; n],
+            before: vec![SlipDirection::Stick; n],
+            seen: Vec::new(),
+            rhs: z(),
+            x: z(),
+            full: z(),
+            hbuf: z(),
+            dbuf: z(),
+        }
+    }
+}
+
+/// Why the walk along a segment stopped before its end.
+enum Stop {
+    End,
+    Entry,
+    Separation(usize),
+    Gross,
+}
+
+/// The rate problem did not give a usable slip set.
+enum RateFailure {
+    NotSettled,
+    Gross,
+}
+
+impl Contact {
+    /// Forget the cached responses (the slip set changed outside
+    /// [`Contact::advance`]).
+    pub(super) fn invalidate_responses(&mut self) {
+        if let Some(w) = &mut self.work {
+            w.engine.valid = false;
+        }
+    }
+
+    /// What the last [`Contact::advance`] did.
+    pub fn last_increment(&self) -> &Increment {
+        &self.increment
+    }
+
+    /// Advance the load on the straight segment from the current load point
+    /// to `target`, following the slip exactly through every event (entry
+    /// into slip, advancing stick) on the way; see the module documentation.
+    ///
+    /// Gross slip is declared where `|y|` reaches `2 pi` and separation
+    /// where `p` reaches 0: the contact is left at that point (its state
+    /// there is valid) and the error carries its load point;
+    /// [`Increment::reached`] tells how far along the segment it is. On
+    /// [`ContactError::NotSettled`] the contact is also left valid where it
+    /// got to, so the caller may cut the rest of the segment.
+    pub fn advance(&mut self, target: LoadPoint) -> Result<(), ContactError> {
+        let n = self.nodes();
+        let mut w = self.work.take().unwrap_or_else(|| Workspace::new(n));
+        let result = self.advance_with(target, &mut w);
+        self.work = Some(w);
+        result
+    }
+
+    fn advance_with(&mut self, target: LoadPoint, w: &mut Workspace) -> Result<(), ContactError> {
+        let from = self.load;
+        self.increment.reset(from, target);
+        let (dx, dy) = (target.x() - from.x(), target.y() - from.y());
+        if dx == 0.0 && dy == 0.0 {
+            self.increment.reached = 1.0;
+            return Ok(());
+        }
+        if !w.engine.elastic_ready {
+            self.elastic_responses(w);
+        }
+        let n = self.nodes();
+        let mut s = 0.0;
+        let mut rate_solves_here = 0;
+        let max_events = 4 * n + 20;
+        let mut events = 0;
+        loop {
+            if !w.engine.valid {
+                self.responses(w)?;
+            }
+            if !w.engine.set.is_empty() {
+                self.combine(w, dx, dy);
+            }
+            let remaining = 1.0 - s;
+            let (stop, t, need_rates) = self.scan(w, dx, dy, remaining);
+            if need_rates {
+                // A settled rate problem leaves nothing to decide here: a
+                // second request at the same point means it did not hold.
+                rate_solves_here += 1;
+                if rate_solves_here > 2 {
+                    return self.fallback(target, s, w);
+                }
+                match self.rate_problem(w, dx, dy, s, remaining) {
+                    Ok(()) => continue,
+                    Err(RateFailure::Gross) => {
+                        // All nodes at the limit a round-off short of
+                        // |y| = 2 pi: the crossing is the gross-slip point.
+                        let t = if dy == 0.0 {
+                            0.0
+                        } else {
+                            ((2.0 * PI * dy.signum() - self.load.y()) / dy).clamp(0.0, remaining)
+                        };
+                        let side = if dy == 0.0 { self.load.y() } else { dy };
+                        self.increment.reached = s + t;
+                        self.load = on_torque_limit(from.lerp(target, s + t), side);
+                        self.refresh_tractions();
+                        return Err(ContactError::GrossSlip { load: self.load });
+                    }
+                    Err(RateFailure::NotSettled) => return self.fallback(target, s, w),
+                }
+            }
+            rate_solves_here = 0;
+            let end = matches!(stop, Stop::End);
+            let s_new = if end { 1.0 } else { s + t };
+            let load = match stop {
+                Stop::End => target,
+                Stop::Gross => on_torque_limit(from.lerp(target, s_new), dy),
+                _ => from.lerp(target, s_new),
+            };
+            self.move_along(w, t, dx, dy, load);
+            s = s_new;
+            self.increment.reached = s;
+            match stop {
+                Stop::End => return Ok(()),
+                Stop::Entry => {
+                    events += 1;
+                    if events > max_events {
+                        return self.fallback(target, s, w);
+                    }
+                }
+                Stop::Separation(node) => {
+                    return Err(self.separation(self.load, node, self.pressure[node]));
+                }
+                Stop::Gross => return Err(ContactError::GrossSlip { load: self.load }),
+            }
+        }
+    }
+
+    /// Elastic tractions per unit `x` and unit `y` (model.md section 2).
+    fn elastic_responses(&self, w: &mut Workspace) {
+        let e = &mut w.engine;
+        let (alpha, beta) = (self.material.alpha(), self.material.beta());
+        let two_pi = 2.0 * PI;
+        for (unit, ep, eq) in [
+            (LoadPoint::new(1.0, 0.0), &mut e.epx, &mut e.eqx),
+            (LoadPoint::new(0.0, 1.0), &mut e.epy, &mut e.eqy),
+        ] {
+            let loads = self.material.to_loads(unit);
+            for j in 0..ep.len() {
+                ep[j] = -beta * loads.radial * self.sin[j] / two_pi;
+                eq[j] = -loads.torque / two_pi - alpha * loads.radial * self.cos[j] / two_pi;
+            }
+        }
+        e.elastic_ready = true;
+    }
+
+    /// Responses of the slip set `self.directions` to unit `x` and `y`.
+    fn responses(&mut self, w: &mut Workspace) -> Result<(), ContactError> {
+        w.engine.trial.copy_from_slice(&self.directions);
+        if self.responses_for_trial(w) {
+            Ok(())
+        } else {
+            Err(ContactError::NotSettled {
+                load: self.load,
+                iterations: 1,
+            })
+        }
+    }
+
+    /// Responses of the slip set `w.engine.trial`; false if the reduced
+    /// system gave no finite solution.
+    fn responses_for_trial(&mut self, w: &mut Workspace) -> bool {
+        let f = self.material.friction();
+        let e = &mut w.engine;
+        e.dirs.copy_from_slice(&e.trial);
+        e.set.clear();
+        e.set.extend(
+            e.dirs
+                .iter()
+                .enumerate()
+                .filter(|(_, d)| d.is_slipping())
+                .map(|(j, d)| (j, d.sign())),
+        );
+        e.valid = false;
+        for (j, d) in e.dirs.iter().enumerate() {
+            e.stick[j] = !d.is_slipping();
+            e.sgn[j] = d.sign();
+            e.off[j] = if d.is_slipping() { f64::INFINITY } else { 0.0 };
+        }
+        let k = e.set.len();
+        if k == 0 {
+            for v in [
+                &mut e.gx, &mut e.gy, &mut e.hpx, &mut e.hpy, &mut e.hqx, &mut e.hqy,
+            ] {
+                v.fill(0.0);
+            }
+            e.totals();
+            e.valid = true;
+            return true;
+        }
+        for axis in 0..2 {
+            let (ep, eq) = if axis == 0 {
+                (&e.epx, &e.eqx)
+            } else {
+                (&e.epy, &e.eqy)
+            };
+            for (r, &(j, sg)) in e.rhs.iter_mut().zip(&e.set) {
+                *r = -(eq[j] - sg * f * ep[j]);
+            }
+            let before = w.reduced.factorisations;
+            w.reduced
+                .solve(&self.ops, f, &e.set, &e.rhs[..k], &mut e.x[..k]);
+            self.increment.factorisations += w.reduced.factorisations - before;
+            e.full.fill(0.0);
+            for (&v, &(j, _)) in e.x[..k].iter().zip(&e.set) {
+                if !v.is_finite() {
+                    return false;
+                }
+                e.full[j] = v;
+            }
+            self.ops
+                .apply_both(&e.full, &mut e.hbuf, &mut e.dbuf, &mut w.fft);
+            let (g, hp, hq) = if axis == 0 {
+                (&mut e.gx, &mut e.hpx, &mut e.hqx)
+            } else {
+                (&mut e.gy, &mut e.hpy, &mut e.hqy)
+            };
+            g.copy_from_slice(&e.full);
+            hp.copy_from_slice(&e.hbuf);
+            for (o, &d) in hq.iter_mut().zip(&e.dbuf) {
+                *o = -d;
+            }
+        }
+        e.totals();
+        e.valid = true;
+        true
+    }
+
+    /// Slip rates on the set along the segment direction `(dx, dy)`.
+    #[inline]
+    fn combine(&self, w: &mut Workspace, dx: f64, dy: f64) {
+        let e = &mut w.engine;
+        for ((r, gx), gy) in e.rg.iter_mut().zip(&e.gx).zip(&e.gy) {
+            *r = dx * gx + dy * gy;
+        }
+    }
+
+    /// Rates of `p` and `q` at every node along `(dx, dy)`.
+    fn combine_full(&self, w: &mut Workspace, dx: f64, dy: f64) {
+        self.combine(w, dx, dy);
+        let e = &mut w.engine;
+        for j in 0..e.rp.len() {
+            e.rp[j] = dx * e.tpx[j] + dy * e.tpy[j];
+            e.rq[j] = dx * e.tqx[j] + dy * e.tqy[j];
+        }
+    }
+
+    /// The first event in `(0, remaining]` of the segment with the cached
+    /// set, or a request to solve the rate problem here first.
+    fn scan(&self, w: &Workspace, dx: f64, dy: f64, remaining: f64) -> (Stop, f64, bool) {
+        let f = self.material.friction();
+        let e = &w.engine;
+        let mut t_min = remaining;
+        let mut stop = Stop::End;
+        let mut need_rates = false;
+        let n = e.tpx.len();
+        if !e.set.is_empty() {
+            // A slip rate against its direction: the set must be decided anew.
+            let (scale, worst) = rate_extremes(&e.rg[..n], &e.sgn[..n]);
+            need_rates |= worst < -DG_TOL * scale;
+        }
+        let (p, q) = (&self.pressure[..n], &self.shear[..n]);
+        let (tpx, tpy, tqx, tqy) = (&e.tpx[..n], &e.tpy[..n], &e.tqx[..n], &e.tqy[..n]);
+        // First a branch-free pass that only asks whether any node could
+        // reach an event before the end of the segment (the common answer
+        // is no); slip nodes get an infinite slack.
+        let lowest = end_margin(
+            [p, q, tpx, tpy, tqx, tqy, &e.off[..n]],
+            f,
+            remaining * dx,
+            remaining * dy,
+        );
+        if lowest < 0.0 {
+            self.locate(w, dx, dy, remaining, &mut t_min, &mut stop, &mut need_rates);
+        }
+        if dy != 0.0 {
+            let y = self.load.y();
+            let limit = 2.0 * PI * dy.signum();
+            let t = if y.abs() >= 2.0 * PI * (1.0 - GROSS_TOL) && y * dy > 0.0 {
+                0.0
+            } else {
+                (limit - y) / dy
+            };
+            if t >= 0.0 && t <= t_min {
+                t_min = t;
+                stop = Stop::Gross;
+            }
+        }
+        (stop, t_min, need_rates)
+    }
+
+    /// The exact first event among the nodes (the slow part of [`Self::scan`],
+    /// only when some node may reach one).
+    #[allow(clippy::too_many_arguments)]
+    fn locate(
+        &self,
+        w: &Workspace,
+        dx: f64,
+        dy: f64,
+        remaining: f64,
+        t_min: &mut f64,
+        stop: &mut Stop,
+        need_rates: &mut bool,
+    ) {
+        let f = self.material.friction();
+        let e = &w.engine;
+        let n = e.tpx.len();
+        let (p, q) = (&self.pressure[..n], &self.shear[..n]);
+        let (tpx, tpy, tqx, tqy) = (&e.tpx[..n], &e.tpy[..n], &e.tqx[..n], &e.tqy[..n]);
+        let stick = &e.stick[..n];
+        for j in 0..n {
+            let a = dx * tpx[j] + dy * tpy[j];
+            // Separation: p + t a = 0 (divide only when it comes first).
+            if a < 0.0 && p[j] < -a * *t_min {
+                *t_min = p[j].max(0.0) / -a;
+                *stop = Stop::Separation(j);
+            }
+            if stick[j] {
+                let b = dx * tqx[j] + dy * tqy[j];
+                // Slack f p - sigma q on the forward (sigma = 1) and
+                // backward side, and its rate.
+                for (h0, h1) in [(f * p[j] - q[j], f * a - b), (f * p[j] + q[j], f * a + b)] {
+                    if h1 < -RATE_TOL && h0 + remaining * h1 < -TRACTION_TOL {
+                        if h0 <= TRACTION_TOL {
+                            *need_rates = true;
+                        } else if h0 < -h1 * *t_min {
+                            *t_min = h0 / -h1;
+                            *stop = Stop::Entry;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Move by `t` of the segment parameter with the cached set, to `load`.
+    fn move_along(&mut self, w: &mut Workspace, t: f64, dx: f64, dy: f64, load: LoadPoint) {
+        let f = self.material.friction();
+        let n = self.nodes();
+        let e = &mut w.engine;
+        self.increment.segments += 1;
+        self.load = load;
+        if t == 0.0 {
+            return;
+        }
+        let (tx, ty) = (t * dx, t * dy);
+        let slipping = !e.set.is_empty();
+        let mut before = 0.0;
+        if slipping {
+            let inc = &mut self.increment;
+            for (((g, fwd), bwd), r) in self
+                .slip
+                .iter_mut()
+                .zip(inc.forward.iter_mut())
+                .zip(inc.backward.iter_mut())
+                .zip(&e.rg)
+            {
+                let dg = t * r;
+                *g += dg;
+                *fwd += dg.max(0.0);
+                *bwd += (-dg).max(0.0);
+            }
+            inc.slipped = true;
+            before = weighted_abs(&self.pressure, &e.rg, t);
+            for ((r, hx), hy) in self.residual_pressure.iter_mut().zip(&e.hpx).zip(&e.hpy) {
+                *r += tx * hx + ty * hy;
+            }
+            for ((r, hx), hy) in self.residual_shear.iter_mut().zip(&e.hqx).zip(&e.hqy) {
+                *r += tx * hx + ty * hy;
+            }
+        }
+        e.since_refresh += 1;
+        if e.since_refresh >= 64 {
+            e.since_refresh = 0;
+            self.refresh_tractions();
+        } else {
+            for ((p, ax), ay) in self.pressure.iter_mut().zip(&e.tpx).zip(&e.tpy) {
+                *p += tx * ax + ty * ay;
+            }
+            for ((q, bx), by) in self.shear.iter_mut().zip(&e.tqx).zip(&e.tqy) {
+                *q += tx * bx + ty * by;
+            }
+        }
+        if slipping {
+            let after = weighted_abs(&self.pressure[..n], &e.rg[..n], t);
+            let dtheta = 2.0 * PI / n as f64;
+            self.increment.dissipation += 0.5 * f * 0.5 * (before + after) * dtheta;
+        }
+    }
+
+    /// `p` and `q` at the current load from the elastic and residual parts.
+    fn refresh_tractions(&mut self) {
+        let loads = self.material.to_loads(self.load);
+        let two_pi = 2.0 * PI;
+        let pr = self.material.beta() * loads.radial / two_pi;
+        let qr = self.material.alpha() * loads.radial / two_pi;
+        let qt = loads.torque / two_pi;
+        for j in 0..self.pressure.len() {
+            self.pressure[j] = 1.0 - pr * self.sin[j] + self.residual_pressure[j];
+            self.shear[j] = -qt - qr * self.cos[j] + self.residual_shear[j];
+        }
+    }
+
+    /// Decide the slip set at the current point for the load direction
+    /// `(dx, dy)`: the active-set iteration on the rates, over the slip set
+    /// and the stick nodes at the friction limit. Records the entries and
+    /// the advancing stick it finds as events at parameter `s`.
+    fn rate_problem(
+        &mut self,
+        w: &mut Workspace,
+        dx: f64,
+        dy: f64,
+        s: f64,
+        remaining: f64,
+    ) -> Result<(), RateFailure> {
+        let f = self.material.friction();
+        let n = self.nodes();
+        self.increment.rate_solves += 1;
+        w.engine.trial.copy_from_slice(&self.directions);
+        w.engine.before.copy_from_slice(&self.directions);
+        w.engine.seen.clear();
+        let max_iterations = 4 * n + 20;
+        let mut settled = false;
+        for iteration in 1..=max_iterations {
+            if (!w.engine.valid || w.engine.dirs != w.engine.trial) && !self.responses_for_trial(w)
+            {
+                return Err(RateFailure::NotSettled);
+            }
+            self.combine_full(w, dx, dy);
+            let e = &mut w.engine;
+            let scale = e
+                .set
+                .iter()
+                .map(|&(j, _)| e.rg[j].abs())
+                .fold(0.0, f64::max);
+            let mut changed = false;
+            for &(j, sg) in &e.set {
+                if sg * e.rg[j] < -DG_TOL * scale {
+                    e.trial[j] = SlipDirection::Stick;
+                    changed = true;
+                }
+            }
+            for j in 0..n {
+                if e.dirs[j].is_slipping() {
+                    continue;
+                }
+                let (p, q) = (self.pressure[j], self.shear[j]);
+                for sigma in [1.0, -1.0] {
+                    let h0 = f * p - sigma * q;
+                    let h1 = f * e.rp[j] - sigma * e.rq[j];
+                    if h0 <= TRACTION_TOL && h1 < -RATE_TOL && h0 + remaining * h1 < -TRACTION_TOL {
+                        e.trial[j] = if sigma > 0.0 {
+                            SlipDirection::Forward
+                        } else {
+                            SlipDirection::Backward
+                        };
+                        changed = true;
+                        break;
+                    }
+                }
+            }
+            if e.trial.iter().all(|d| d.is_slipping()) {
+                // All nodes at the limit: only possible on |y| = 2 pi.
+                return Err(if self.load.y().abs() >= 2.0 * PI * (1.0 - GROSS_TOL) {
+                    RateFailure::Gross
+                } else {
+                    RateFailure::NotSettled
+                });
+            }
+            if !changed {
+                settled = true;
+                break;
+            }
+            if iteration > 4 {
+                let h = fingerprint(&e.trial);
+                if e.seen.contains(&h) {
+                    break;
+                }
+                e.seen.push(h);
+            }
+        }
+        if !settled {
+            return Err(RateFailure::NotSettled);
+        }
+        // The responses are those of `trial`, now the slip set.
+        let e = &w.engine;
+        if e.before != e.dirs {
+            self.directions.copy_from_slice(&e.dirs);
+            self.increment.set_changed = true;
+            let load = self.load;
+            let entered: Vec<usize> = (0..n)
+                .filter(|&j| !e.before[j].is_slipping() && e.dirs[j].is_slipping())
+                .collect();
+            let stuck: Vec<usize> = (0..n)
+                .filter(|&j| e.before[j].is_slipping() && e.dirs[j] != e.before[j])
+                .collect();
+            for (kind, nodes) in [
+                (ContactEventKind::AdvancingStick, stuck),
+                (ContactEventKind::SlipEntry, entered),
+            ] {
+                if !nodes.is_empty() {
+                    self.increment.events.push(ContactEvent {
+                        kind,
+                        fraction: s,
+                        load,
+                        nodes,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Last resort: the finite-step active-set iteration from the current
+    /// point to `target`.
+    fn fallback(
+        &mut self,
+        target: LoadPoint,
+        s: f64,
+        w: &mut Workspace,
+    ) -> Result<(), ContactError> {
+        let n = self.nodes();
+        let f = self.material.friction();
+        self.increment.fallback = true;
+        match self.solve_with(target, f, n, w) {
+            Ok(trial) => {
+                self.increment.dissipation += trial.dissipation;
+                self.increment.segments += 1;
+                self.increment.factorisations += trial.factorisations;
+                for (j, &d) in trial.slip_increment.iter().enumerate() {
+                    self.increment.add_slip(j, d);
+                }
+                if trial.directions != self.directions {
+                    self.increment.set_changed = true;
+                }
+                w.engine.valid = false;
+                // `commit` without the invalidation of the (taken) workspace.
+                self.commit(trial);
+                self.increment.reached = 1.0;
+                Ok(())
+            }
+            Err(ContactError::GrossSlip { .. }) => {
+                // Only on the torque limit; otherwise the trial set had not
+                // settled.
+                let (y0, y1) = (self.load.y(), target.y());
+                if y1.abs() >= 2.0 * PI && y0.abs() < 2.0 * PI && y1 != y0 {
+                    let limit = 2.0 * PI * (y1 - y0).signum();
+                    let r = (limit - y0) / (y1 - y0);
+                    let load = on_torque_limit(self.load.lerp(target, r), y1 - y0);
+                    self.increment.reached = s + (1.0 - s) * r;
+                    Err(ContactError::GrossSlip { load })
+                } else {
+                    self.increment.reached = s;
+                    Err(ContactError::NotSettled {
+                        load: target,
+                        iterations: 0,
+                    })
+                }
+            }
+            Err(e) => {
+                self.increment.reached = s;
+                Err(e)
+            }
+        }
+    }
+}

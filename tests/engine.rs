@@ -1,0 +1,369 @@
+//! The exact, event-driven increment (`Contact::advance`, issue 9): events
+//! located to round-off, the cheap path equal to a full solve, and the
+//! terminal events at the right instant.
+
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+use shakedown::contact::{ContactEventKind, Increment};
+use shakedown::{
+    Contact, ContactError, Cycle, Discretisation, Initial, LoadPoint, Material, Operators, Plane,
+    SteadyState, StepOptions, Stepper,
+};
+
+fn contact(n: usize) -> Contact {
+    Contact::new(Material::paper(), Arc::new(Operators::new(n)))
+}
+
+/// The load parameter `r` at which a node first reaches `|q| = f p` on the
+/// ray `r (dx, dy)` from the unloaded state, from the elastic tractions of
+/// model.md section 2 written out here independently of the solver.
+fn first_entry(m: &Material, n: usize, dx: f64, dy: f64) -> f64 {
+    let (f, a, b) = (m.friction(), m.alpha(), m.beta());
+    // Pt = f x / chi, Tt = f y.
+    let mut best = f64::INFINITY;
+    for j in 0..n {
+        let th = 2.0 * PI * j as f64 / n as f64;
+        // Per unit r: q = -(f dy + a Pt' cos)/(2 pi), f p = f - f b Pt' sin/(2 pi).
+        let pt = f * dx / m.chi();
+        let q1 = -(f * dy + a * pt * th.cos()) / (2.0 * PI);
+        let fp1 = -f * b * pt * th.sin() / (2.0 * PI);
+        for sigma in [1.0, -1.0] {
+            // sigma q = f p: r (sigma q1 - fp1) = f.
+            let rate = sigma * q1 - fp1;
+            if rate > 0.0 {
+                best = best.min(f / rate);
+            }
+        }
+    }
+    best
+}
+
+fn first_event(inc: &Increment, kind: ContactEventKind) -> Option<(f64, LoadPoint, Vec<usize>)> {
+    inc.events
+        .iter()
+        .find(|e| e.kind == kind)
+        .map(|e| (e.fraction, e.load, e.nodes.clone()))
+}
+
+#[test]
+fn entry_into_slip_is_located_to_round_off_on_the_diamond() {
+    let m = Material::paper();
+    let n = 128;
+    for k in 0..12 {
+        let angle = 2.0 * PI * (k as f64 + 0.37) / 12.0;
+        let (dx, dy) = (angle.cos(), angle.sin());
+        let r = first_entry(&m, n, dx, dy);
+        // The discrete onset lies on or just outside the diamond
+        // |x| + |y| = 2 pi, by at most the node spacing (exactly on it where
+        // a node sits at the critical angle).
+        let diamond = 2.0 * PI / (dx.abs() + dy.abs());
+        assert!(r >= diamond * (1.0 - 1e-12), "{r} vs {diamond}");
+        assert!(
+            r * (2.0 * PI / n as f64).cos() <= diamond,
+            "{r} vs {diamond}"
+        );
+        // One increment from the origin to well past the onset.
+        let mut c = contact(n);
+        let to = LoadPoint::new(1.3 * r * dx, 1.3 * r * dy);
+        if to.y().abs() >= 2.0 * PI {
+            continue;
+        }
+        c.advance(to).unwrap();
+        let (fraction, load, nodes) =
+            first_event(c.last_increment(), ContactEventKind::SlipEntry).expect("slip entry");
+        assert!(!nodes.is_empty());
+        assert!(
+            (fraction * 1.3 - 1.0).abs() < 1e-12,
+            "entry at fraction {fraction}, expected {}",
+            1.0 / 1.3
+        );
+        assert!((load.x() - r * dx).abs() < 1e-12 && (load.y() - r * dy).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn entry_exactly_on_the_diamond_where_a_node_sits_at_the_critical_angle() {
+    // Pure radial load: x cos(theta - theta*) = 2 pi with theta* the angle
+    // of alpha cos + f beta sin. For f -> 0 (alpha only) theta* = 0, a node.
+    let m = Material::new(1e-9, 0.3, Plane::Strain).unwrap();
+    let mut c = Contact::new(m, Arc::new(Operators::new(64)));
+    c.advance(LoadPoint::new(-9.0, 0.0)).unwrap();
+    let (_, load, nodes) =
+        first_event(c.last_increment(), ContactEventKind::SlipEntry).expect("slip entry");
+    // theta = 0 and pi, on either side of the friction cone.
+    assert_eq!(nodes, vec![0, 32]);
+    assert!(
+        (load.x().abs() + load.y().abs() - 2.0 * PI).abs() < 1e-8,
+        "{load}"
+    );
+}
+
+#[test]
+fn gross_slip_is_at_the_torque_limit_exactly() {
+    for (x, y) in [(0.0, 9.0), (1.5, 7.0), (-2.0, -8.0)] {
+        let mut c = contact(64);
+        let to = LoadPoint::new(x, y);
+        match c.advance(to) {
+            Err(ContactError::GrossSlip { load }) => {
+                assert!(load.y().abs() > 2.0 * PI, "{load}");
+                assert!(load.y().abs() - 2.0 * PI < 1e-14, "{load}");
+                // On the segment from the origin.
+                let r = 2.0 * PI / y.abs();
+                assert!((load.x() - r * x).abs() < 1e-12, "{load}");
+                assert!((c.last_increment().reached - r).abs() < 1e-12);
+                // The state there still obeys the friction law.
+                let f = c.material().friction();
+                for j in 0..64 {
+                    assert!(c.shear()[j].abs() <= f * c.pressure()[j] * (1.0 + 1e-9) + 1e-12);
+                }
+            }
+            other => panic!("expected gross slip, got {other:?}"),
+        }
+    }
+}
+
+/// A contact with a partial slip zone, reached along a straight path.
+fn partially_slipping(n: usize) -> Contact {
+    let mut c = contact(n);
+    c.advance(LoadPoint::new(2.0, 5.0)).unwrap();
+    let slipping = c.directions().iter().filter(|d| d.is_slipping()).count();
+    assert!(slipping > 4 && slipping < n, "{slipping}");
+    c
+}
+
+#[test]
+fn the_cheap_path_equals_a_full_solve() {
+    let n = 128;
+    let c = partially_slipping(n);
+    // Small steps in a few directions: where the set does not change, the
+    // O(N) path and the finite-step active-set solve agree to round-off.
+    let mut compared = 0;
+    for (dx, dy) in [(0.0, 1e-3), (1e-3, 1e-3), (-1e-3, 5e-4), (0.0, -1e-3)] {
+        let to = LoadPoint::new(c.load().x() + dx, c.load().y() + dy);
+        let mut fast = c.clone();
+        fast.advance(to).unwrap();
+        let inc = fast.last_increment();
+        if !inc.events.is_empty() || inc.segments != 1 {
+            continue;
+        }
+        compared += 1;
+        let mut full = c.clone();
+        let trial = full.solve(to).unwrap();
+        let dissipation = trial.dissipation;
+        full.commit(trial);
+        for j in 0..n {
+            assert!((fast.slip()[j] - full.slip()[j]).abs() < 1e-13, "g at {j}");
+            assert!((fast.pressure()[j] - full.pressure()[j]).abs() < 1e-12);
+            assert!((fast.shear()[j] - full.shear()[j]).abs() < 1e-12);
+        }
+        assert!(
+            (inc.dissipation - dissipation).abs() <= 1e-9 * dissipation,
+            "{} vs {dissipation}",
+            inc.dissipation
+        );
+    }
+    assert!(compared >= 2, "only {compared} steps without an event");
+}
+
+#[test]
+fn an_event_does_not_depend_on_how_the_segment_is_cut() {
+    // Unload part of the way after a partial slip: the slip zone sticks
+    // (advancing stick) and the other side may enter. Walking the segment
+    // in one call or in two must give the same events and end state.
+    let n = 128;
+    let c = partially_slipping(n);
+    let to = LoadPoint::new(2.6, 4.3);
+    let mut one = c.clone();
+    one.advance(to).unwrap();
+    let events = one.last_increment().events.clone();
+    assert!(!events.is_empty(), "the turn must cause an event");
+    let stick = events
+        .iter()
+        .find(|e| e.kind == ContactEventKind::AdvancingStick)
+        .expect("advancing stick at the turn");
+    assert_eq!(stick.fraction, 0.0, "stick at the turning point");
+    // An entry strictly inside the segment, cut at an arbitrary point.
+    for cut in [0.3, 0.71] {
+        let mid = c.load().lerp(to, cut);
+        let mut two = c.clone();
+        two.advance(mid).unwrap();
+        let mut found: Vec<(LoadPoint, Vec<usize>)> = two
+            .last_increment()
+            .events
+            .iter()
+            .filter(|e| e.fraction > 0.0)
+            .map(|e| (e.load, e.nodes.clone()))
+            .collect();
+        two.advance(to).unwrap();
+        found.extend(
+            two.last_increment()
+                .events
+                .iter()
+                .filter(|e| e.fraction > 0.0)
+                .map(|e| (e.load, e.nodes.clone())),
+        );
+        let inside: Vec<_> = events.iter().filter(|e| e.fraction > 0.0).collect();
+        assert_eq!(inside.len(), found.len(), "cut at {cut}");
+        for (e, (load, nodes)) in inside.iter().zip(&found) {
+            assert_eq!(&e.nodes, nodes);
+            assert!(e.load.distance(*load) < 1e-12, "{} vs {load}", e.load);
+        }
+        for j in 0..n {
+            assert!((one.slip()[j] - two.slip()[j]).abs() < 1e-12);
+            assert!((one.shear()[j] - two.shear()[j]).abs() < 1e-12);
+        }
+    }
+}
+
+#[test]
+fn advancing_stick_is_where_the_slip_rate_vanishes() {
+    // At the advancing-stick point the stuck nodes have slipped up to it
+    // and a tiny further step of the finite-step solver moves them no more.
+    let n = 128;
+    let c = partially_slipping(n);
+    let to = LoadPoint::new(2.6, 4.3);
+    let mut one = c.clone();
+    one.advance(to).unwrap();
+    let ev = one
+        .last_increment()
+        .events
+        .iter()
+        .find(|e| e.kind == ContactEventKind::AdvancingStick)
+        .cloned()
+        .unwrap();
+    let mut at = c.clone();
+    at.advance(ev.load).unwrap();
+    let step = c.load().lerp(to, 1e-6);
+    let dir = LoadPoint::new(step.x() - c.load().x(), step.y() - c.load().y());
+    let beyond = LoadPoint::new(ev.load.x() + dir.x(), ev.load.y() + dir.y());
+    let trial = at.clone().solve(beyond).unwrap();
+    for &j in &ev.nodes {
+        assert_eq!(trial.slip_increment[j], 0.0, "node {j} still slips");
+    }
+}
+
+#[test]
+fn straight_cycles_do_not_depend_on_the_increment_count() {
+    // phi = 0: the load moves on a straight line, so the exact increment
+    // has no time-discretisation error at all.
+    let run = |steps| {
+        let mut s = Stepper::new(
+            Material::paper(),
+            Discretisation::new(64, steps).unwrap(),
+            &Initial::Direct,
+            Cycle::paper(5.5, 0.0).unwrap(),
+            StepOptions::default(),
+        );
+        s.run_to_steady().unwrap()
+    };
+    let (a, b) = (run(100), run(700));
+    assert_eq!(a.state, b.state);
+    assert!(
+        (a.dissipation - b.dissipation).abs() < 1e-9 * a.dissipation,
+        "{} vs {}",
+        a.dissipation,
+        b.dissipation
+    );
+}
+
+#[test]
+fn just_below_the_torque_limit_is_not_gross_slip() {
+    // The cycle's highest y is 2 pi - 1.6e-5.
+    let cycle = Cycle::paper(7.4094, 0.0).unwrap();
+    let top = (0..100_000)
+        .map(|i| cycle.at(2.0 * PI * i as f64 / 100_000.0).y())
+        .fold(f64::MIN, f64::max);
+    assert!(top < 2.0 * PI && top > 2.0 * PI - 1e-4, "{top}");
+    let mut s = Stepper::new(
+        Material::paper(),
+        Discretisation::new(64, 200).unwrap(),
+        &Initial::Direct,
+        cycle,
+        StepOptions::default(),
+    );
+    let summary = s.run_to_steady().unwrap();
+    assert_ne!(summary.state, SteadyState::GrossSlip, "{summary:?}");
+    // Just above it, gross slip at |y| = 2 pi.
+    let mut s = Stepper::new(
+        Material::paper(),
+        Discretisation::new(64, 200).unwrap(),
+        &Initial::Direct,
+        Cycle::paper(7.42, 0.0).unwrap(),
+        StepOptions::default(),
+    );
+    let summary = s.run_to_steady().unwrap();
+    assert_eq!(summary.state, SteadyState::GrossSlip);
+    let load = summary.terminal_load.unwrap();
+    assert!((load.y() - 2.0 * PI).abs() < 1e-14, "{load}");
+}
+
+#[test]
+fn terminal_time_and_load_are_the_same_instant() {
+    let m = Material::new(0.2, 0.3, Plane::Strain).unwrap();
+    let steps = 400;
+    let cycle = Cycle::paper(5.0, 0.0).unwrap();
+    let mut s = Stepper::new(
+        m,
+        Discretisation::new(128, steps).unwrap(),
+        &Initial::Direct,
+        cycle,
+        StepOptions::default(),
+    );
+    let summary = s.run_to_steady().unwrap();
+    assert_eq!(summary.state, SteadyState::Separation);
+    let (t, load) = (
+        summary.terminal_time.unwrap(),
+        summary.terminal_load.unwrap(),
+    );
+    // The load point lies on the chord of the increment containing t, at
+    // the fraction of t within it.
+    let u = t * steps as f64 / (2.0 * PI);
+    let k = u.floor();
+    let (a, b) = (
+        cycle.at(2.0 * PI * k / steps as f64),
+        cycle.at(2.0 * PI * (k + 1.0) / steps as f64),
+    );
+    let on_chord = a.lerp(b, u - k);
+    assert!(on_chord.distance(load) < 1e-9, "{on_chord} vs {load}");
+    // And the pressure vanishes there.
+    let p_min = s
+        .contact()
+        .pressure()
+        .iter()
+        .copied()
+        .fold(f64::MAX, f64::min);
+    assert!(p_min.abs() < 1e-12, "p = {p_min}");
+}
+
+#[test]
+fn dissipation_is_half_q_dot_dg() {
+    // On a sub-segment q = s f p on the slip nodes and both vary linearly,
+    // so 1/2 int q dg (trapezoid of q) is f/2 int p |dg|.
+    let n = 128;
+    let mut d = partially_slipping(n);
+    let dtheta = 2.0 * PI / n as f64;
+    let mut checked = 0;
+    for i in 1..=200 {
+        let to = LoadPoint::new(2.0 + 0.002 * i as f64, 5.0 + 0.001 * i as f64);
+        let q0 = d.shear().to_vec();
+        let g0 = d.slip().to_vec();
+        d.advance(to).unwrap();
+        let inc = d.last_increment();
+        if inc.segments != 1 || !inc.slipped {
+            continue;
+        }
+        checked += 1;
+        let w: f64 = (0..n)
+            .map(|j| 0.5 * 0.5 * (q0[j] + d.shear()[j]) * (d.slip()[j] - g0[j]))
+            .sum::<f64>()
+            * dtheta;
+        assert!(w > 0.0);
+        assert!(
+            (w - inc.dissipation).abs() < 1e-9 * w,
+            "{w} vs {}",
+            inc.dissipation
+        );
+    }
+    assert!(checked > 20, "{checked}");
+}
