@@ -783,11 +783,7 @@ impl Contact {
                     let h0 = f * p - sigma * q;
                     let h1 = f * e.rp[j] - sigma * e.rq[j];
                     if h0 <= TRACTION_TOL && h1 < -RATE_TOL && h0 + remaining * h1 < -TRACTION_TOL {
-                        e.trial[j] = if sigma > 0.0 {
-                            SlipDirection::Forward
-                        } else {
-                            SlipDirection::Backward
-                        };
+                        e.trial[j] = SlipDirection::from_sign(sigma);
                         changed = true;
                         break;
                     }

@@ -15,33 +15,51 @@ use super::operators::{FftScratch, Operators};
 use super::reduced::ReducedSolver;
 use crate::model::{LoadPoint, Material};
 
-/// Direction of slip at one node during the last increment.
+/// Direction of slip at one node during the last increment, named as the
+/// paper names it (model.md section 1.3): **forward** slip is `dh > 0`, that
+/// is `dg < 0` (`g` is proportional to `-h`), with `q = -f p`: the disc
+/// moves clockwise relative to the plate, the way a positive torque drives
+/// it. It is the direction of the ratchet at the paper's points B and C.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum SlipDirection {
+    /// No slip.
     #[default]
     Stick,
-    /// `dg > 0`: the disc slips counter-clockwise relative to the plate.
+    /// The paper's forward slip: `dh > 0`, `dg < 0`, `q = -f p`.
     Forward,
-    /// `dg < 0`.
+    /// The paper's backward slip: `dh < 0`, `dg > 0`, `q = +f p`.
     Backward,
 }
 
 impl SlipDirection {
+    /// The sign of `dg` for this direction: `-1` forward, `+1` backward,
+    /// `0` for stick (it is also the sign of `q` at the friction limit).
     pub fn sign(self) -> f64 {
         match self {
             SlipDirection::Stick => 0.0,
-            SlipDirection::Forward => 1.0,
-            SlipDirection::Backward => -1.0,
+            SlipDirection::Backward => 1.0,
+            SlipDirection::Forward => -1.0,
         }
     }
-    fn from_sign(s: f64) -> Self {
+    /// The direction whose `dg` has the sign of `s`.
+    pub(crate) fn from_sign(s: f64) -> Self {
         if s > 0.0 {
-            SlipDirection::Forward
-        } else {
             SlipDirection::Backward
+        } else {
+            SlipDirection::Forward
         }
     }
+    /// `+1` for forward slip, `-1` for backward, `0` for stick: the paper's
+    /// sense, as the slip-map CSV writes it.
+    pub fn paper_sign(self) -> i8 {
+        match self {
+            SlipDirection::Stick => 0,
+            SlipDirection::Forward => 1,
+            SlipDirection::Backward => -1,
+        }
+    }
+    /// Whether the node slips.
     pub fn is_slipping(self) -> bool {
         self != SlipDirection::Stick
     }
