@@ -56,7 +56,7 @@ impl Default for CaseParams {
             initial: "OA".into(),
             nodes: 128,
             steps: 400,
-            max_cycles: 200,
+            max_cycles: crate::steady::DEFAULT_MAX_CYCLES,
         }
     }
 }

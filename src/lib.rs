@@ -21,9 +21,11 @@ pub mod steady;
 pub mod stepper;
 pub mod sweep;
 pub mod tui;
+pub mod verdict;
 
 pub use contact::{Contact, ContactError, Operators, SlipDirection};
 pub use params::{Cycle, Discretisation, LoadPoint, Loads, Material, ParamError, Plane};
 pub use path::{Initial, PathError};
 pub use steady::{Approach, Convergence, CycleRecord, SteadyState};
 pub use stepper::{Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary};
+pub use verdict::Trend;

@@ -11,6 +11,7 @@ use crate::contact::{Contact, ContactError, Operators, SlipDirection, Trial};
 use crate::params::{Cycle, Discretisation, LoadPoint, Material};
 use crate::path::{entry_waypoints, segments, Initial, Segment};
 use crate::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
+use crate::verdict::{trend, Trend};
 
 /// A numerical failure of the stepper. Physical end states (gross slip,
 /// separation) are not errors: they are outcomes.
@@ -106,6 +107,9 @@ pub struct Summary {
     pub terminal_time: Option<f64>,
     /// Node angle of separation.
     pub terminal_theta: Option<f64>,
+    /// For a `not-converged` run (and a bounded decay): the trend of `W`
+    /// over the last cycles and an estimate of its limit.
+    pub trend: Option<Trend>,
 }
 
 /// What one call to [`Stepper::step`] did.
@@ -490,6 +494,7 @@ impl Stepper {
             terminal_load: Some(load),
             terminal_time: time,
             terminal_theta: theta,
+            trend: None,
         };
         report.events.push(event);
         report
@@ -553,23 +558,28 @@ impl Stepper {
                         assess(&self.history, &self.options.convergence)
                     {
                         let last = self.history.last().expect("just pushed");
+                        // Shakedown in the limit dissipates nothing and
+                        // does not rotate; an unproven run keeps its last
+                        // cycle and says where it was heading.
+                        let limit = approach == Approach::BoundedDecay;
+                        let trend = match approach {
+                            Approach::BoundedDecay | Approach::Cap => {
+                                let w: Vec<f64> =
+                                    self.history.iter().map(|r| r.dissipation).collect();
+                                trend(&w)
+                            }
+                            _ => None,
+                        };
                         let summary = Summary {
                             state,
                             approach,
-                            dissipation: if approach == Approach::Asymptotic {
-                                0.0
-                            } else {
-                                last.dissipation
-                            },
+                            dissipation: if limit { 0.0 } else { last.dissipation },
                             cycles: self.history.len(),
-                            rotation_per_cycle: if approach == Approach::Asymptotic {
-                                0.0
-                            } else {
-                                last.rotation
-                            },
+                            rotation_per_cycle: if limit { 0.0 } else { last.rotation },
                             terminal_load: None,
                             terminal_time: None,
                             terminal_theta: None,
+                            trend,
                         };
                         report
                             .events

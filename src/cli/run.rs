@@ -50,6 +50,7 @@ pub fn to_json(params: &CaseParams, s: &Summary, history: &[f64]) -> serde_json:
         "terminal_load": s.terminal_load,
         "terminal_time": s.terminal_time,
         "terminal_theta": s.terminal_theta,
+        "trend": s.trend,
         "dissipation_history": history,
         "parameters": {
             "lambda": params.load_factor,
@@ -86,10 +87,13 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
         p.friction, p.poisson, p.plane, p.initial, p.nodes, p.steps
     );
     let how = match s.approach {
-        Approach::NoSlip => "a whole cycle without slip".to_string(),
-        Approach::Settled => "W changed by less than 0.01 % between cycles".to_string(),
-        Approach::Asymptotic => {
-            "W decays towards zero cycle by cycle: shakedown is reached asymptotically".to_string()
+        Approach::NoSlipCycle => "a whole cycle without slip".to_string(),
+        Approach::Converged => format!(
+            "W changed by less than 0.01 % over {} successive cycles",
+            shakedown::steady::SETTLE_CYCLES
+        ),
+        Approach::BoundedDecay => {
+            "the slip still to come is bounded by a decaying geometric series".to_string()
         }
         Approach::Terminal => match (s.terminal_load, s.terminal_time) {
             (Some(l), Some(t)) => format!(
@@ -99,7 +103,10 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
             (Some(l), None) => format!("at load point {l} in the initial transient"),
             _ => String::new(),
         },
-        Approach::CycleCap => format!("the cap of {} cycles was reached", p.max_cycles),
+        Approach::Cap => format!(
+            "the cap of {} cycles was reached with W still changing",
+            p.max_cycles
+        ),
     };
     let _ = writeln!(o, "state     {}  ({how})", s.state);
     let _ = writeln!(
@@ -113,6 +120,17 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
         s.rotation_per_cycle
     );
     let _ = writeln!(o, "cycles    {}", s.cycles);
+    if let Some(t) = &s.trend {
+        let _ = writeln!(
+            o,
+            "trend     W heading for {:.3e} +- {:.3e}  (changes shrink by {:.4} a cycle; W ~ k^-{:.2} over the last {} cycles)",
+            t.limit,
+            t.uncertainty,
+            t.ratio,
+            t.exponent,
+            shakedown::verdict::WINDOW
+        );
+    }
     if history.len() > 1 {
         let shown: Vec<String> = history
             .iter()

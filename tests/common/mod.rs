@@ -179,7 +179,7 @@ pub fn fake_rows(source: &shakedown::tui::sweep::SweepSource) -> Vec<shakedown::
             } else {
                 Ok(Summary {
                     state,
-                    approach: Approach::Settled,
+                    approach: Approach::Converged,
                     dissipation: if state == SteadyState::Shakedown {
                         0.0
                     } else {
@@ -190,6 +190,7 @@ pub fn fake_rows(source: &shakedown::tui::sweep::SweepSource) -> Vec<shakedown::
                     terminal_load: None,
                     terminal_time: None,
                     terminal_theta: None,
+                    trend: None,
                 })
             };
             Row {
