@@ -105,8 +105,9 @@ impl CycleRecord {
             || self.backward.iter().any(|&v| v > 0.0)
     }
 
-    /// The largest slip any node accumulated: the scale for "did it slip".
-    fn scale(&self) -> f64 {
+    /// The largest slip any node accumulated in the cycle (forward plus
+    /// backward): the scale for "did it slip".
+    pub fn largest_slip(&self) -> f64 {
         self.forward
             .iter()
             .zip(&self.backward)
@@ -117,7 +118,7 @@ impl CycleRecord {
     /// Nodes that slipped during the cycle, counting only slip above a small
     /// fraction of the largest, so that round-off does not count as slip.
     pub fn slipping_nodes(&self) -> Vec<bool> {
-        let tol = SLIP_FRACTION * self.scale();
+        let tol = SLIP_FRACTION * self.largest_slip();
         self.forward
             .iter()
             .zip(&self.backward)
@@ -133,7 +134,7 @@ impl CycleRecord {
         if !self.slipping_nodes().iter().all(|&s| s) {
             return SteadyState::CyclicSlip;
         }
-        let tol = SLIP_FRACTION * self.scale();
+        let tol = SLIP_FRACTION * self.largest_slip();
         let against = if self.rotation >= 0.0 {
             &self.backward
         } else {
@@ -188,9 +189,10 @@ pub enum Approach {
     /// `W` changed by at most the tolerance over [`SETTLE_CYCLES`]
     /// successive cycles, all classified alike: the paper's 0.01 % rule.
     Converged,
-    /// The bounded-decay test: every cycle slips less than the one before
-    /// it by at least a fixed factor, so the slip still to come is bounded
-    /// by a geometric series and tends to zero (`docs/verdicts.md`).
+    /// The bounded-decay test ([`crate::verdict::bounded_decay`]): `W` and
+    /// the largest nodal slip fall as a power of the cycle count steep
+    /// enough for the dissipation still to come to be bounded and to tend
+    /// to zero, with no sign of levelling off (`docs/verdicts.md`).
     BoundedDecay,
     /// Gross slip or separation ended the run.
     Terminal,

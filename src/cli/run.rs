@@ -93,7 +93,7 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
             shakedown::steady::SETTLE_CYCLES
         ),
         Approach::BoundedDecay => {
-            "the slip still to come is bounded by a decaying geometric series".to_string()
+            "W and the largest nodal slip decay as a power of the cycle count steep enough that the dissipation still to come is bounded and tends to zero".to_string()
         }
         Approach::Terminal => match (s.terminal_load, s.terminal_time) {
             (Some(l), Some(t)) => format!(
