@@ -157,12 +157,8 @@ pub struct Convergence {
     /// `|W_k - W_(k-1)| <= tolerance W_(k-1)`: the paper's 0.01 %.
     pub tolerance: f64,
     /// Give up after this many cycles: the run is then `not-converged`.
+    /// There is no other way out: no verdict is drawn from a trend.
     pub max_cycles: usize,
-    /// Allow verdicts before a no-slip cycle or the 0.01 % rule: the
-    /// bounded-decay test for asymptotic shakedown. Switched off, a run ends
-    /// only on a cycle without slip, the 0.01 % rule, a terminal event or
-    /// the cap (for reference runs in tests and benches).
-    pub early_exit: bool,
 }
 
 /// The default cycle cap: boundary runs that shake down asymptotically
@@ -174,7 +170,6 @@ impl Default for Convergence {
         Self {
             tolerance: 1e-4,
             max_cycles: DEFAULT_MAX_CYCLES,
-            early_exit: true,
         }
     }
 }
@@ -189,11 +184,6 @@ pub enum Approach {
     /// `W` changed by at most the tolerance over [`SETTLE_CYCLES`]
     /// successive cycles, all classified alike: the paper's 0.01 % rule.
     Converged,
-    /// The bounded-decay test ([`crate::verdict::bounded_decay`]): `W` and
-    /// the largest nodal slip fall as a power of the cycle count steep
-    /// enough for the dissipation still to come to be bounded and to tend
-    /// to zero, with no sign of levelling off (`docs/verdicts.md`).
-    BoundedDecay,
     /// Gross slip or separation ended the run.
     Terminal,
     /// The cycle cap was reached without a verdict: `not-converged`.
@@ -206,7 +196,6 @@ impl Approach {
         match self {
             Approach::NoSlipCycle => "no-slip-cycle",
             Approach::Converged => "converged",
-            Approach::BoundedDecay => "bounded-decay",
             Approach::Terminal => "terminal",
             Approach::Cap => "cap",
         }
@@ -232,9 +221,6 @@ pub fn assess(history: &[CycleRecord], criteria: &Convergence) -> Option<(Steady
     }
     if let Some(state) = settled(history, criteria.tolerance) {
         return Some((state, Approach::Converged));
-    }
-    if criteria.early_exit && crate::verdict::bounded_decay(history) {
-        return Some((SteadyState::Shakedown, Approach::BoundedDecay));
     }
     if history.len() >= criteria.max_cycles {
         return Some((SteadyState::NotConverged, Approach::Cap));

@@ -107,8 +107,8 @@ pub struct Summary {
     pub terminal_time: Option<f64>,
     /// Node angle of separation.
     pub terminal_theta: Option<f64>,
-    /// For a `not-converged` run (and a bounded decay): the trend of `W`
-    /// over the last cycles and an estimate of its limit.
+    /// For a `not-converged` run: the trend of `W` over the last cycles and
+    /// an estimate of its limit.
     pub trend: Option<Trend>,
 }
 
@@ -558,24 +558,20 @@ impl Stepper {
                         assess(&self.history, &self.options.convergence)
                     {
                         let last = self.history.last().expect("just pushed");
-                        // Shakedown in the limit dissipates nothing and
-                        // does not rotate; an unproven run keeps its last
-                        // cycle and says where it was heading.
-                        let limit = approach == Approach::BoundedDecay;
-                        let trend = match approach {
-                            Approach::BoundedDecay | Approach::Cap => {
-                                let w: Vec<f64> =
-                                    self.history.iter().map(|r| r.dissipation).collect();
-                                trend(&w)
-                            }
-                            _ => None,
+                        // A run that reached the cap keeps its last cycle
+                        // and says where `W` was heading.
+                        let trend = if approach == Approach::Cap {
+                            let w: Vec<f64> = self.history.iter().map(|r| r.dissipation).collect();
+                            trend(&w)
+                        } else {
+                            None
                         };
                         let summary = Summary {
                             state,
                             approach,
-                            dissipation: if limit { 0.0 } else { last.dissipation },
+                            dissipation: last.dissipation,
                             cycles: self.history.len(),
-                            rotation_per_cycle: if limit { 0.0 } else { last.rotation },
+                            rotation_per_cycle: last.rotation,
                             terminal_load: None,
                             terminal_time: None,
                             terminal_theta: None,

@@ -3,8 +3,6 @@
 
 use serde::Serialize;
 
-use crate::steady::CycleRecord;
-
 /// The trend of `W` over the last cycles of a run, and where it is heading.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Trend {
@@ -89,52 +87,4 @@ pub fn trend(w: &[f64]) -> Option<Trend> {
         limit,
         uncertainty,
     })
-}
-
-/// The bounded-decay test needs at least this many cycles.
-pub const DECAY_MIN_CYCLES: usize = 100;
-/// ... `W` at most this fraction of its largest value ...
-pub const DECAY_DEPTH: f64 = 1e-4;
-/// ... `W_k ~ k^(-p)` over the second half of the run with `p` at least
-/// this, and no slower over the last quarter ...
-pub const DECAY_EXPONENT: f64 = 2.5;
-/// ... and the largest slip of any node in a cycle falling at least as
-/// `k^(-1.5)`: no node levels off.
-pub const NODE_EXPONENT: f64 = 1.5;
-
-/// The bounded-decay test for asymptotic shakedown (`docs/verdicts.md`).
-///
-/// With `k` cycles run: `k >= DECAY_MIN_CYCLES`, `0 < W_k <= DECAY_DEPTH
-/// max W`, the exponent of `W` between cycles `k/2` and `k` at least
-/// `DECAY_EXPONENT` and between `3k/4` and `k` at least that again (the decay
-/// does not slow down), and the largest nodal slip of a cycle falling with
-/// exponent at least `NODE_EXPONENT` between `k/2` and `k`. A `W` heading for
-/// a positive level fails the test as the level comes near: its exponent
-/// falls towards zero (and a node that keeps slipping holds the largest
-/// nodal slip up).
-pub fn bounded_decay(history: &[CycleRecord]) -> bool {
-    let k = history.len();
-    if k < DECAY_MIN_CYCLES {
-        return false;
-    }
-    let (half, quarter) = (k / 2, 3 * k / 4);
-    // Exponent p of x ~ cycle^(-p) between cycles a and k (1-based).
-    let exponent = |xa: f64, xk: f64, a: usize| {
-        if xa > 0.0 && xk > 0.0 {
-            (xa / xk).ln() / (k as f64 / a as f64).ln()
-        } else {
-            f64::NAN
-        }
-    };
-    let w = |c: usize| history[c - 1].dissipation;
-    let node = |c: usize| history[c - 1].largest_slip();
-    let peak = history.iter().map(|r| r.dissipation).fold(0.0, f64::max);
-    let last = w(k);
-    if !(last > 0.0 && last <= DECAY_DEPTH * peak) {
-        return false;
-    }
-    let over_half = exponent(w(half), last, half);
-    let over_quarter = exponent(w(quarter), last, quarter);
-    let nodes = exponent(node(half), node(k), half);
-    over_half >= DECAY_EXPONENT && over_quarter >= over_half && nodes >= NODE_EXPONENT
 }

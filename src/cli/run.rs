@@ -92,9 +92,6 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
             "W changed by less than 0.01 % over {} successive cycles",
             shakedown::steady::SETTLE_CYCLES
         ),
-        Approach::BoundedDecay => {
-            "W and the largest nodal slip decay as a power of the cycle count steep enough that the dissipation still to come is bounded and tends to zero".to_string()
-        }
         Approach::Terminal => match (s.terminal_load, s.terminal_time) {
             (Some(l), Some(t)) => format!(
                 "at load point {l}, omega t = {t:.4} in cycle {}",
