@@ -88,3 +88,38 @@ pub fn trend(w: &[f64]) -> Option<Trend> {
         uncertainty,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn geometric_approach_to_a_level_is_extrapolated() {
+        let w: Vec<f64> = (1..=30).map(|k| 2e-6 + 1e-3 * 0.8f64.powi(k)).collect();
+        let t = trend(&w).unwrap();
+        assert!((t.limit - 2e-6).abs() < 1e-9, "{t:?}");
+        assert!(t.uncertainty < 1e-9, "{t:?}");
+        assert!((t.ratio - 0.8).abs() < 1e-6, "{t:?}");
+    }
+
+    #[test]
+    fn power_law_decay_leaves_the_limit_open_down_to_zero() {
+        let w: Vec<f64> = (1..=200).map(|k| (k as f64).powf(-3.0)).collect();
+        let t = trend(&w).unwrap();
+        assert!(t.limit > 0.0 && t.limit - t.uncertainty <= 0.0, "{t:?}");
+        assert!((t.exponent - 3.0).abs() < 0.01, "{t:?}");
+        assert!(t.ratio > 0.95, "{t:?}");
+    }
+
+    #[test]
+    fn a_level_sequence_has_itself_as_limit() {
+        let w = vec![3e-5; 20];
+        let t = trend(&w).unwrap();
+        assert_eq!((t.limit, t.uncertainty, t.exponent), (3e-5, 0.0, 0.0));
+    }
+
+    #[test]
+    fn too_short_has_no_trend() {
+        assert!(trend(&[1.0; WINDOW + 1]).is_none());
+    }
+}
