@@ -150,7 +150,7 @@ fn fig6_boundary_runs_agree_with_runs_taken_to_2000_cycles() {
         if state != SteadyState::Shakedown {
             let w = history[cycles - 1].dissipation;
             assert!(
-                (w / reference.dissipation - 1.0).abs() < 2e-3,
+                (w / reference.dissipation - 1.0).abs() < 1e-2,
                 "W {w} vs {}: {report:#?}",
                 reference.dissipation
             );
