@@ -201,7 +201,7 @@ fn fig5_point_b_slips_back_and_forth() {
     let map = map_of(7.0, 0.0);
     assert_eq!(
         map.summary.state,
-        shakedown::analysis::steady::SteadyState::RatchettingNonMonotonic
+        shakedown::stepping::steady::SteadyState::RatchettingNonMonotonic
     );
     let dirs: Vec<SlipDirection> = map.rows.iter().flat_map(|r| r.directions.clone()).collect();
     assert!(dirs.contains(&SlipDirection::Forward) && dirs.contains(&SlipDirection::Backward));
@@ -212,7 +212,7 @@ fn fig7_point_c_one_zone_splits_travels_and_merges() {
     let map = map_of(5.1, 0.5 * PI);
     assert_eq!(
         map.summary.state,
-        shakedown::analysis::steady::SteadyState::RatchettingMonotonic
+        shakedown::stepping::steady::SteadyState::RatchettingMonotonic
     );
     let n = map.nodes;
     let zones: Vec<Vec<shakedown::stepping::SlipZone>> =

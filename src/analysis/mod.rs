@@ -1,5 +1,4 @@
-//! Analysis of runs: the steady state and its classification, cases and
-//! sweeps, the shakedown limit `lambda_2` by linear programming, the memory
+//! Analysis of runs: cases and sweeps, the shakedown limit `lambda_2` by linear programming, the memory
 //! measures `R` and `r` of Fig. 4, slip maps and the ratchetting threshold
 //! `lambda_3`.
 
@@ -9,5 +8,4 @@ pub mod limit_curve;
 pub mod memory;
 pub mod regime;
 pub mod slip_map;
-pub mod steady;
 pub mod sweep;

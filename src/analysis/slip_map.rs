@@ -9,9 +9,9 @@
 use std::f64::consts::PI;
 
 use crate::analysis::case::Case;
-use crate::analysis::steady::SteadyState;
 use crate::contact::SlipDirection;
 use crate::model::{Cycle, LoadPoint, Material};
+use crate::stepping::steady::SteadyState;
 use crate::stepping::{
     drive, Control, Goal, Phase, Status, StepError, StepReport, Stepper, Summary,
 };

@@ -15,11 +15,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::case::Case;
 use crate::analysis::limit::{optimal_initial, LimitError};
-use crate::analysis::steady::SteadyState;
 use crate::contact::Contact;
 use crate::io::batch::{run_ordered, Abort, Interrupt, Progress};
 use crate::model::path::Initial;
 use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError};
+use crate::stepping::steady::SteadyState;
 use crate::stepping::{
     drive, operators, Control, Driven, Goal, StepError, StepOptions, StepReport, Stepper, Summary,
 };

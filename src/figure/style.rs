@@ -14,9 +14,9 @@ use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 
 use super::FigureError;
-use crate::analysis::steady::SteadyState;
 use crate::contact::SlipDirection;
 use crate::io::preset::RatchettingMarkers;
+use crate::stepping::steady::SteadyState;
 
 static FONT_BYTES: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 const FAMILY: &str = "sans-serif";

@@ -12,10 +12,10 @@ use std::fmt::Write as _;
 
 use crate::analysis::case::Case;
 use crate::analysis::limit::Limit;
-use crate::analysis::steady::SteadyState;
 use crate::analysis::sweep::{SweepSpec, CSV_HEADER};
 use crate::io::read::escape_text;
 use crate::model::{Discretisation, LoadPoint, Material};
+use crate::stepping::steady::SteadyState;
 
 /// The version of the tool that wrote a file, as its first comment line says.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -4,11 +4,14 @@
 //! the one [`Stepper`] and the one driver [`drive`].
 
 mod driver;
+pub mod steady;
 mod stepper;
+pub mod verdict;
 mod zones;
 
 pub use driver::{drive, Control, Driven, Goal, Observer, Silent};
 pub use stepper::{
     operators, Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary,
 };
+pub use verdict::Trend;
 pub use zones::{slip_zones, zone_changes, SlipZone, ZoneChange};

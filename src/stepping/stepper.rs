@@ -8,8 +8,9 @@ use std::sync::Arc;
 use serde::Serialize;
 
 use super::driver::{drive, Control, Goal, Silent};
+use super::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
+use super::verdict::{trend, Trend};
 use super::zones::{slip_zones, zone_changes, ZoneChange};
-use crate::analysis::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
 use crate::contact::{Contact, ContactError, ContactEventKind, Operators, SlipDirection};
 use crate::model::path::{entry_waypoints, segments, Initial, Segment};
 use crate::model::{Cycle, Discretisation, LoadPoint, Material};
@@ -134,6 +135,9 @@ pub struct Summary {
     pub terminal_time: Option<f64>,
     /// Node angle of separation.
     pub terminal_theta: Option<f64>,
+    /// For a `not-converged` run: the trend of `W` over the last cycles and
+    /// an estimate of its limit.
+    pub trend: Option<Trend>,
 }
 
 /// What one call to [`Stepper::step`] did.
@@ -542,6 +546,7 @@ impl Stepper {
             terminal_load: Some(load),
             terminal_time: time,
             terminal_theta: theta,
+            trend: None,
         };
         report.events.push(event);
         report
@@ -605,23 +610,24 @@ impl Stepper {
                         assess(&self.history, &self.options.convergence)
                     {
                         let last = self.history.last().expect("just pushed");
+                        // A run that reached the cap keeps its last cycle
+                        // and says where `W` was heading.
+                        let trend = if approach == Approach::Cap {
+                            let w: Vec<f64> = self.history.iter().map(|r| r.dissipation).collect();
+                            trend(&w)
+                        } else {
+                            None
+                        };
                         let summary = Summary {
                             state,
                             approach,
-                            dissipation: if approach == Approach::Asymptotic {
-                                0.0
-                            } else {
-                                last.dissipation
-                            },
+                            dissipation: last.dissipation,
                             cycles: self.history.len(),
-                            rotation_per_cycle: if approach == Approach::Asymptotic {
-                                0.0
-                            } else {
-                                last.rotation
-                            },
+                            rotation_per_cycle: last.rotation,
                             terminal_load: None,
                             terminal_time: None,
                             terminal_theta: None,
+                            trend,
                         };
                         report
                             .events
