@@ -13,7 +13,7 @@ use shakedown::tui::keys::{bindings_for, event_for, Action, Mode, BINDINGS, MODE
 use shakedown::tui::log::EventKind;
 use shakedown::tui::{default_params, ui};
 
-mod common;
+use crate::common;
 
 /// The default case, with a tiny sweep for the sweep view so that keys
 /// which start it do not start a full preset's.

@@ -1,7 +1,7 @@
 //! `shakedown figure`: the files it writes are well formed, and the paper's
 //! qualitative statements hold in reduced versions of the figures.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;

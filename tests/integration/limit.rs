@@ -2,7 +2,7 @@
 //! simulation: the optimal slip shakes down just below it and slips just
 //! above it, and no transient shakes down above it.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 
