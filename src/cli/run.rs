@@ -65,6 +65,8 @@ pub fn to_json(params: &CaseParams, s: &Summary, history: &[f64]) -> serde_json:
         "terminal_time": s.terminal_time,
         "terminal_theta": s.terminal_theta,
         "trend": s.trend,
+        "outcome": s.outcome(),
+        "version": env!("CARGO_PKG_VERSION"),
         "dissipation_history": history,
         "parameters": {
             "lambda": params.load_factor,

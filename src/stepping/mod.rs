@@ -4,12 +4,14 @@
 //! the one [`Stepper`] and the one driver [`drive`].
 
 mod driver;
+mod outcome;
 pub mod steady;
 mod stepper;
 pub mod verdict;
 mod zones;
 
 pub use driver::{drive, Control, Driven, Goal, Observer, Silent};
+pub use outcome::{Outcome, ShakedownProof};
 pub use stepper::{
     operators, Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary,
 };

@@ -151,7 +151,7 @@ impl CycleRecord {
 /// Slip below this fraction of the cycle's largest nodal slip is round-off.
 const SLIP_FRACTION: f64 = 1e-6;
 
-/// Criteria for the steady state (model.md section 6, `docs/verdicts.md`).
+/// Criteria for the steady state (model.md section 6).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Convergence {
     /// `|W_k - W_(k-1)| <= tolerance W_(k-1)`: the paper's 0.01 %.

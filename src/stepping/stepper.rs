@@ -140,6 +140,13 @@ pub struct Summary {
     pub trend: Option<Trend>,
 }
 
+/// How a run ended physically, at the load point where it happened.
+#[derive(Debug, Clone, Copy)]
+enum Terminal {
+    GrossSlip { load: LoadPoint },
+    Separation { load: LoadPoint, theta: f64 },
+}
+
 /// What one call to [`Stepper::step`] did.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct StepReport {
@@ -419,8 +426,13 @@ impl Stepper {
                     bisections: self.options.failure_bisections,
                 })
             }
-            Err((e, at)) => {
-                self.end(e, at, &mut report);
+            // Gross slip and separation are outcomes, not failures.
+            Err((ContactError::GrossSlip { load }, at)) => {
+                self.end(Terminal::GrossSlip { load }, at, &mut report);
+                return Ok(report);
+            }
+            Err((ContactError::Separation { load, theta, .. }, at)) => {
+                self.end(Terminal::Separation { load, theta }, at, &mut report);
                 return Ok(report);
             }
         }
@@ -519,22 +531,21 @@ impl Stepper {
 
     /// The run ends at parameter `at` of the current increment, where the
     /// contact is and the error's load point is.
-    fn end(&mut self, error: ContactError, at: f64, report: &mut StepReport) {
+    fn end(&mut self, terminal: Terminal, at: f64, report: &mut StepReport) {
         let time = self.time_at(at);
-        let (state, load, theta, event) = match error {
-            ContactError::GrossSlip { load } => (
+        let (state, load, theta, event) = match terminal {
+            Terminal::GrossSlip { load } => (
                 SteadyState::GrossSlip,
                 load,
                 None,
                 Event::GrossSlip { load, time },
             ),
-            ContactError::Separation { load, theta, .. } => (
+            Terminal::Separation { load, theta } => (
                 SteadyState::Separation,
                 load,
                 Some(theta),
                 Event::Separation { load, time, theta },
             ),
-            ContactError::NotSettled { .. } => unreachable!("handled by step"),
         };
         let last = self.history.last();
         let summary = Summary {

@@ -1,5 +1,5 @@
 //! What the sequence of cycle dissipations says when no verdict is proven:
-//! its trend and an estimate of its limit (`docs/verdicts.md`).
+//! its trend and an estimate of its limit (`docs/model.md` section 6.3).
 
 use serde::Serialize;
 

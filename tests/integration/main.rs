@@ -1,9 +1,9 @@
 //! Every integration test in one binary: one link, one run (as bottom
 //! keeps `tests/integration/main.rs`). Each file is a module.
 
-mod common;
 mod bad_input;
 mod batch_cli;
+mod common;
 mod engine;
 mod figures;
 mod kernels;

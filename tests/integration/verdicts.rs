@@ -1,5 +1,5 @@
 //! Steady-state verdicts near the boundaries between states
-//! (`docs/verdicts.md`): a verdict is proven (a cycle without slip), or
+//! (`docs/model.md` section 6.3): a verdict is proven (a cycle without slip), or
 //! converged by the 0.01 % rule, or the run is `not-converged`. Checked
 //! against runs taken much further: a convergence tolerance of `1e-8` and a
 //! cap of 2000 cycles.
