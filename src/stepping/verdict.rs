@@ -33,6 +33,10 @@ pub const WINDOW: usize = 8;
 /// shrinking geometrically.
 const GEOMETRIC: f64 = 0.95;
 
+/// How far below the ratio of a power-law decay the ratio of successive
+/// changes must be to count as geometric.
+const POWER_LAW_MARGIN: f64 = 0.02;
+
 /// The trend of `w` (one entry per cycle); `None` with fewer than
 /// `WINDOW + 2` cycles.
 pub fn trend(w: &[f64]) -> Option<Trend> {
@@ -67,18 +71,27 @@ pub fn trend(w: &[f64]) -> Option<Trend> {
             .abs()
             .powf(1.0 / (diffs.len() - 1) as f64)
     };
-    let same_sign = diffs.iter().all(|d| d.signum() == diffs[0].signum());
-    let geometric = same_sign && ratio <= GEOMETRIC;
-    let uncertainty = if geometric || spread == 0.0 && diffs.iter().all(|&d| d == 0.0) {
-        spread
-    } else {
-        spread.max(limit)
-    };
     let first = w[n - 1 - WINDOW];
     let exponent = if first > 0.0 && last > 0.0 {
         (first / last).ln() / (n as f64 / (n - WINDOW) as f64).ln()
     } else {
         f64::NAN
+    };
+    // A power-law decay `W_k ~ k^(-p)` (limit 0) has changes whose ratio is
+    // about `((k - 1) / k)^(p + 1)`: a ratio that close to it is no evidence
+    // of a geometric approach to a positive level, however small it is.
+    let k = n as f64;
+    let power_law_ratio = if exponent.is_finite() {
+        ((k - 1.0) / k).powf(exponent.max(0.0) + 1.0)
+    } else {
+        1.0
+    };
+    let same_sign = diffs.iter().all(|d| d.signum() == diffs[0].signum());
+    let geometric = same_sign && ratio <= GEOMETRIC && ratio < power_law_ratio - POWER_LAW_MARGIN;
+    let uncertainty = if geometric || spread == 0.0 && diffs.iter().all(|&d| d == 0.0) {
+        spread
+    } else {
+        spread.max(limit)
     };
     Some(Trend {
         last,

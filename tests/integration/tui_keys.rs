@@ -732,7 +732,7 @@ fn events_are_logged_and_filtered_by_size() {
     terminal.draw(|f| ui::draw(f, &app)).unwrap();
     let text = terminal.backend().to_string();
     assert!(text.contains("Event log"), "{text}");
-    assert!(text.contains("sub-increments)"), "wrapped, not cut: {text}");
+    assert!(text.contains("sub-segments)"), "wrapped, not cut: {text}");
 }
 
 #[test]

