@@ -24,6 +24,9 @@ pub enum SteadyState {
 }
 
 impl SteadyState {
+    /// Every state, in the order of model.md section 6.2 (the order of
+    /// tables and legends); parsing with `FromStr` searches it by
+    /// [`SteadyState::as_str`].
     pub const ALL: [SteadyState; 7] = [
         SteadyState::Shakedown,
         SteadyState::CyclicSlip,
@@ -47,6 +50,9 @@ impl SteadyState {
         }
     }
 
+    /// Whether the state is ratchetting, monotonic or non-monotonic
+    /// (model.md section 6.2): every node slips each cycle and the disc turns
+    /// by a net `rotation_per_cycle`.
     pub fn is_ratchetting(self) -> bool {
         matches!(
             self,
@@ -89,6 +95,8 @@ pub struct CycleRecord {
 }
 
 impl CycleRecord {
+    /// An empty record for cycle `cycle` (1-based) on `nodes` nodes: no
+    /// dissipation `W`, no rotation, no slip yet.
     pub fn new(cycle: usize, nodes: usize) -> Self {
         Self {
             cycle,
@@ -99,6 +107,9 @@ impl CycleRecord {
         }
     }
 
+    /// Whether anything slipped during the cycle: positive dissipation `W`
+    /// or any nodal slip `|dg| > 0`. A cycle that did not slip is
+    /// shakedown (model.md section 6.1).
     pub fn slipped(&self) -> bool {
         self.dissipation > 0.0
             || self.forward.iter().any(|&v| v > 0.0)
