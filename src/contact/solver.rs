@@ -69,19 +69,37 @@ impl SlipDirection {
 /// states, not numerical failures.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ContactError {
+    /// `|y|` reached `2 pi`: the friction torque cannot grow further and the
+    /// whole interface slides (model.md section 2). The stepper reports it
+    /// as an outcome, not a failure.
     #[error("gross slip at load point {load}: the whole interface slides")]
-    GrossSlip { load: LoadPoint },
+    GrossSlip {
+        /// Where it happened.
+        load: LoadPoint,
+    },
+    /// The pressure reached zero at a node. The stepper reports it as an
+    /// outcome, not a failure.
     #[error(
         "separation at load point {load}: p = {pressure:.4} < 0 at theta = {theta:.4} rad (node {node})"
     )]
     Separation {
+        /// Where it happened.
         load: LoadPoint,
+        /// The node that separated.
         node: usize,
+        /// Its angle.
         theta: f64,
+        /// Its pressure (at most 0).
         pressure: f64,
     },
+    /// A numerical failure: the active set did not settle.
     #[error("active set did not settle at load point {load} after {iterations} iterations")]
-    NotSettled { load: LoadPoint, iterations: usize },
+    NotSettled {
+        /// Where it happened.
+        load: LoadPoint,
+        /// Iterations tried.
+        iterations: usize,
+    },
 }
 
 pub(super) fn most_negative(p: &[f64]) -> Option<(usize, f64)> {
@@ -108,10 +126,15 @@ pub(super) const DG_TOL: f64 = 1e-10;
 /// The result of solving one increment, not yet committed.
 #[derive(Debug, Clone)]
 pub struct Trial {
+    /// The load point the increment ends at.
     pub load: LoadPoint,
+    /// `dg` at every node.
     pub slip_increment: Vec<f64>,
+    /// `p` at every node at the end of the increment.
     pub pressure: Vec<f64>,
+    /// `q` at every node at the end of the increment.
     pub shear: Vec<f64>,
+    /// How each node slipped during the increment.
     pub directions: Vec<SlipDirection>,
     /// `1/2 int q dg dtheta` over this increment (>= 0).
     pub dissipation: f64,
@@ -288,12 +311,15 @@ impl Contact {
         &self.residual_shear
     }
 
+    /// The material (friction and elastic constants).
     pub fn material(&self) -> &Material {
         &self.material
     }
+    /// Number of nodes `N`.
     pub fn nodes(&self) -> usize {
         self.slip.len()
     }
+    /// The load point the contact is at.
     pub fn load(&self) -> LoadPoint {
         self.load
     }
