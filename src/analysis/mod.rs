@@ -6,6 +6,7 @@ pub mod case;
 pub mod limit;
 pub mod limit_curve;
 pub mod memory;
+pub mod ordered;
 pub mod regime;
 pub mod slip_map;
 pub mod sweep;

@@ -38,10 +38,13 @@ pub enum StepError {
     },
     /// The stepper was given [`Initial::Optimal`], whose slip comes from the
     /// `lambda_2` linear programme: resolve it first with
-    /// [`crate::analysis::limit::resolve_initial`] (or build the run
+    /// [`crate::analysis::limit::optimal_initial`] (or build the run
     /// through [`crate::analysis::case::Case`]).
     #[error("initial path 'optimal' was not resolved to a slip distribution")]
     UnresolvedOptimal,
+    /// A parameter of the run is out of range.
+    #[error(transparent)]
+    Param(#[from] crate::model::ParamError),
 }
 
 /// Options of the stepper.
@@ -186,6 +189,16 @@ pub struct Summary {
     /// For a `not-converged` run: the trend of `W` over the last cycles and
     /// an estimate of its limit.
     pub trend: Option<Trend>,
+}
+
+/// Where a transient to the cycle centre `A` left the contact
+/// ([`Stepper::prepare_at_center`]).
+#[derive(Debug, Clone)]
+pub enum AtCenter {
+    /// At `A`, ready for the cycle.
+    Ready(Contact),
+    /// The transient ended the run (gross slip or separation before `A`).
+    Ended(Summary),
 }
 
 /// How a run ended physically, at the load point where it happened.
@@ -356,14 +369,16 @@ impl Stepper {
     /// The contact after the transient up to the cycle centre `A` (the
     /// `A -> C` entry not included): it depends on the initial path only.
     ///
-    /// The outer `Ok` holds `Ok(contact)` at `A`, or `Err(summary)` when the
-    /// transient itself ended the run (gross slip or separation before `A`).
+    /// It is [`AtCenter::Ready`] with the contact at `A`, or
+    /// [`AtCenter::Ended`] when the transient itself ended the run (gross
+    /// slip or separation before `A`).
     ///
     /// # Errors
     ///
     /// [`StepError::NotSettled`] when an increment of the transient fails
     /// numerically; [`StepError::UnresolvedOptimal`] for an
-    /// [`Initial::Optimal`] that was not resolved.
+    /// [`Initial::Optimal`] that was not resolved; [`StepError::Param`] for
+    /// a centre out of range.
     pub fn prepare_at_center(
         ops: Arc<Operators>,
         material: Material,
@@ -371,15 +386,15 @@ impl Stepper {
         initial: &Initial,
         center: LoadPoint,
         options: StepOptions,
-    ) -> Result<Result<Contact, Summary>, StepError> {
-        let dummy = Cycle::new(center, 0.0, 0.0, 0.0).expect("a zero cycle at a valid centre");
+    ) -> Result<AtCenter, StepError> {
+        let dummy = Cycle::new(center, 0.0, 0.0, 0.0)?;
         let mut s = Self::with_operators(ops, material, disc, initial, dummy, options);
         // The dummy cycle starts at A, so the transient ends exactly there.
         drive(&mut s, Goal::TransientEnd, &mut Silent)?;
         if let Status::Ended(summary) = &s.status {
-            return Ok(Err(summary.clone()));
+            return Ok(AtCenter::Ended(summary.clone()));
         }
-        Ok(Ok(s.contact))
+        Ok(AtCenter::Ready(s.contact))
     }
 
     /// Start the cycle from a contact prepared at the centre `A`.
