@@ -432,9 +432,9 @@ pub fn optimal_initial(
 ) -> Result<Initial, LimitError> {
     let limit = shakedown_limit(
         material,
-        cycle.center,
-        cycle.slope,
-        cycle.phase,
+        cycle.center(),
+        cycle.slope(),
+        cycle.phase(),
         disc,
         DEFAULT_SAMPLES,
     )?;

@@ -191,8 +191,8 @@ impl SweepSpec {
             case.material,
             case.disc,
             case.options,
-            case.cycle.center,
-            case.cycle.slope,
+            case.cycle.center(),
+            case.cycle.slope(),
             lists.clone(),
         )
     }

@@ -205,10 +205,15 @@ pub fn sweep_metadata(spec: &SweepSpec) -> Metadata {
 /// discretisation, `lambda`, `phi` and the initial path.
 pub fn case_metadata(table: &str, case: &Case, initial: &str) -> Metadata {
     let mut m = Metadata::new(table);
-    model_entries(&mut m, &case.material, case.cycle.center, case.cycle.slope);
+    model_entries(
+        &mut m,
+        &case.material,
+        case.cycle.center(),
+        case.cycle.slope(),
+    );
     disc_entries(&mut m, &case.disc, case.options.convergence.max_cycles);
-    m.push("lambda", case.cycle.load_factor);
-    m.push("phi", case.cycle.phase);
+    m.push("lambda", case.cycle.load_factor());
+    m.push("phi", case.cycle.phase());
     m.push("initial", initial);
     m
 }

@@ -314,9 +314,9 @@ impl Stepper {
         };
         if let Some(slip) = slip {
             contact.set_slip(&slip);
-            contact.set_load_elastic(cycle.center);
+            contact.set_load_elastic(cycle.center());
         }
-        let mut waypoints = initial.waypoints_to(cycle.center);
+        let mut waypoints = initial.waypoints_to(cycle.center());
         waypoints.push(cycle.start());
         let mut stepper = Self::from_contact(contact, &waypoints, cycle, disc, options);
         stepper.unresolved = unresolved;

@@ -258,11 +258,11 @@ impl App {
     }
     /// The load factor `lambda` of the current cycle.
     pub fn load_factor(&self) -> f64 {
-        self.case.cycle.load_factor
+        self.case.cycle.load_factor()
     }
     /// The phase `phi` of the current cycle, in radians.
     pub fn phase(&self) -> f64 {
-        self.case.cycle.phase
+        self.case.cycle.phase()
     }
     /// The initial paths `[` and `]` cycle through.
     pub fn paths(&self) -> &[Initial] {
@@ -996,7 +996,7 @@ impl App {
 
     fn change_cycle(&mut self, load_factor: f64, phase: f64, what: String) {
         let c = &self.case.cycle;
-        match Cycle::new(c.center, load_factor, c.slope, phase) {
+        match Cycle::new(c.center(), load_factor, c.slope(), phase) {
             Ok(cycle) => {
                 self.case.cycle = cycle;
                 self.restart(&what);
@@ -1291,9 +1291,9 @@ impl App {
                     }
                 }
                 _ => match Cycle::new(
-                    self.case.cycle.center,
+                    self.case.cycle.center(),
                     job.load_factor,
-                    self.case.cycle.slope,
+                    self.case.cycle.slope(),
                     job.phase,
                 )
                 .map_err(|e| e.to_string())
@@ -1315,7 +1315,7 @@ impl App {
             other => other.clone(),
         };
         let c = &self.case.cycle;
-        let cycle = match Cycle::new(c.center, job.load_factor, c.slope, job.phase) {
+        let cycle = match Cycle::new(c.center(), job.load_factor, c.slope(), job.phase) {
             Ok(cycle) => cycle,
             Err(e) => {
                 self.notice = Some(e.to_string());
