@@ -196,7 +196,7 @@ pub struct Summary {
 #[derive(Debug, Clone)]
 pub enum AtCenter {
     /// At `A`, ready for the cycle.
-    Ready(Contact),
+    Ready(Box<Contact>),
     /// The transient ended the run (gross slip or separation before `A`).
     Ended(Summary),
 }
@@ -394,7 +394,7 @@ impl Stepper {
         if let Status::Ended(summary) = &s.status {
             return Ok(AtCenter::Ended(summary.clone()));
         }
-        Ok(AtCenter::Ready(s.contact))
+        Ok(AtCenter::Ready(Box::new(s.contact)))
     }
 
     /// Start the cycle from a contact prepared at the centre `A`.
