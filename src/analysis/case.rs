@@ -11,7 +11,7 @@
 //! // with the direct transient OA.
 //! let case = Case::from_params(&CaseParams::default()).unwrap();
 //! assert_eq!(case.initial, Initial::Direct);
-//! assert_eq!(case.cycle.load_factor, 7.0);
+//! assert_eq!(case.cycle.load_factor(), 7.0);
 //! assert_eq!(case.disc.nodes(), 128);
 //!
 //! // Validation reports the first bad parameter.

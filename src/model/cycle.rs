@@ -27,10 +27,10 @@ use super::{finite, LoadPoint, ParamError};
 /// // A quarter cycle on, the load is at the end of the load line, at
 /// // distance lambda from A along slope psi = 5/8.
 /// let top = c.at(PI / 2.0);
-/// assert!((c.center.distance(top) - 7.0).abs() < 1e-12);
-/// assert!(((top.y() - c.center.y()) / (top.x() - c.center.x()) - 0.625).abs() < 1e-12);
+/// assert!((c.center().distance(top) - 7.0).abs() < 1e-12);
+/// assert!(((top.y() - c.center().y()) / (top.x() - c.center().x()) - 0.625).abs() < 1e-12);
 /// // In phase, the cycle starts at its centre: C = A.
-/// assert!(c.start().distance(c.center) < 1e-12);
+/// assert!(c.start().distance(c.center()) < 1e-12);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Cycle {
