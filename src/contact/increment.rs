@@ -312,9 +312,11 @@ impl Engine {
         } else {
             (&mut self.tpy, &mut self.tqy, &self.hpy, &self.hqy)
         };
-        for j in 0..tp.len() {
-            tp[j] = (ux * self.epx[j] + uy * self.epy[j]) + hp[j];
-            tq[j] = (ux * self.eqx[j] + uy * self.eqy[j]) + hq[j];
+        for (((t, h), ex), ey) in tp.iter_mut().zip(hp).zip(&self.epx).zip(&self.epy) {
+            *t = (ux * ex + uy * ey) + h;
+        }
+        for (((t, h), ex), ey) in tq.iter_mut().zip(hq).zip(&self.eqx).zip(&self.eqy) {
+            *t = (ux * ex + uy * ey) + h;
         }
     }
 
