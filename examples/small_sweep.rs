@@ -16,8 +16,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let case = Case::from_params(&CaseParams::default())?;
     let limit = shakedown_limit(
         &case.material,
-        case.cycle.center,
-        case.cycle.slope,
+        case.cycle.center(),
+        case.cycle.slope(),
         0.0,
         &case.disc,
         DEFAULT_SAMPLES,

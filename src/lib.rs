@@ -92,8 +92,9 @@ pub mod stepping;
 #[cfg(feature = "tui")]
 pub mod tui;
 
-pub use analysis::steady::{Approach, Convergence, CycleRecord, SteadyState};
 pub use contact::{Contact, ContactError, Operators, SlipDirection};
 pub use model::PathError;
 pub use model::{Cycle, Discretisation, Initial, LoadPoint, Loads, Material, ParamError, Plane};
+pub use stepping::steady::{Approach, Convergence, CycleRecord, SteadyState};
+pub use stepping::Trend;
 pub use stepping::{Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary};

@@ -101,7 +101,7 @@ impl Default for CaseParams {
             initial: "OA".into(),
             nodes: 128,
             steps: 400,
-            max_cycles: 200,
+            max_cycles: crate::stepping::steady::DEFAULT_MAX_CYCLES,
         }
     }
 }

@@ -48,20 +48,43 @@ const LAMBDA_CAP: f64 = 1e3;
 /// The limit analysis failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum LimitError {
+    /// An elliptical cycle was to be sampled at fewer than 3 or more than
+    /// [`MAX_SAMPLES`] times `M`; holds the count given.
     #[error("samples = {0} is out of range: expected 3 to 4096 points on the ellipse")]
     Samples(usize),
+    /// The cycle's centre `A`, slope ψ (`slope`) or phase φ (`phase`) is
+    /// not valid (as for [`Cycle::new`]).
     #[error(transparent)]
     Param(#[from] ParamError),
+    /// No locked-in slip `g` keeps `|q| <= f p` even at the centre `A`
+    /// (λ = 0): the programme has no feasible point and `lambda_2` does not
+    /// exist.
     #[error(
         "no locked-in slip satisfies the friction law at the cycle centre {center}: lambda_2 does not exist"
     )]
-    Infeasible { center: LoadPoint },
+    Infeasible {
+        /// The cycle centre `A` in the load plane.
+        center: LoadPoint,
+    },
+    /// Some slip `g` keeps the friction law for every λ up to the cap of
+    /// 1000: no finite limit in this cycle direction.
     #[error("lambda_2 is unbounded: some slip keeps the friction law for every lambda up to 1000")]
     Unbounded,
+    /// The interior-point solver hit its iteration limit.
     #[error("the LP solver stopped after {iterations} iterations without converging")]
-    MaxIterations { iterations: u32 },
+    MaxIterations {
+        /// Interior-point iterations taken.
+        iterations: u32,
+    },
+    /// The interior-point solver failed numerically, or its optimum λ is
+    /// not finite.
     #[error("the LP solver failed numerically ({status})")]
-    Numerical { status: String },
+    Numerical {
+        /// The solver's status, in words.
+        status: String,
+    },
+    /// The solver rejected its settings or the problem's data; holds its
+    /// message.
     #[error("the LP solver rejected the problem: {0}")]
     Setup(String),
 }
@@ -98,6 +121,19 @@ pub fn is_line(slope: f64, phase: f64) -> bool {
 /// `lambda_2` for the cycle with centre `center`, slope `psi` and phase
 /// `phi` on the discretisation's nodes. `samples` is used for an ellipse
 /// only; a line uses its two ends.
+///
+/// The linear programme of model.md section 7.3 in `(g, lambda)`, with
+/// `mean g = 0`, solved by an interior-point method on a growing subset of
+/// the samples until no sample is violated.
+///
+/// # Errors
+///
+/// [`LimitError::Samples`] for an ellipse with `samples` outside
+/// `3..=`[`MAX_SAMPLES`]; [`LimitError::Param`] for an invalid centre,
+/// slope or phase; [`LimitError::Infeasible`] when no slip satisfies the
+/// friction law at `A`; [`LimitError::Unbounded`] when λ reaches the cap of
+/// 1000; [`LimitError::MaxIterations`], [`LimitError::Numerical`] or
+/// [`LimitError::Setup`] when the LP solver fails.
 pub fn shakedown_limit(
     material: &Material,
     center: LoadPoint,
@@ -382,6 +418,13 @@ impl Programme<'_> {
 /// The optimal slip of the `lambda_2` problem for `cycle` (its `lambda` is
 /// irrelevant) as an initial condition named `optimal`: the run starts at
 /// the centre `A` with this slip and no transient.
+///
+/// Model.md section 7.4; the slip is [`Limit::slip`] of
+/// [`shakedown_limit`] with [`DEFAULT_SAMPLES`] samples for an ellipse.
+///
+/// # Errors
+///
+/// As [`shakedown_limit`].
 pub fn optimal_initial(
     material: &Material,
     cycle: &Cycle,
@@ -389,9 +432,9 @@ pub fn optimal_initial(
 ) -> Result<Initial, LimitError> {
     let limit = shakedown_limit(
         material,
-        cycle.center,
-        cycle.slope,
-        cycle.phase,
+        cycle.center(),
+        cycle.slope(),
+        cycle.phase(),
         disc,
         DEFAULT_SAMPLES,
     )?;

@@ -7,10 +7,10 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use crate::analysis::steady::SteadyState;
 use crate::analysis::sweep::SweepSpec;
 use crate::model::path::Initial;
 use crate::model::Cycle;
+use crate::stepping::steady::SteadyState;
 use crate::stepping::{
     drive, operators, Control, Goal, Observer, Status, StepError, StepReport, Stepper, Summary,
 };

@@ -1,5 +1,4 @@
-//! Analysis of runs: the steady state and its classification, cases and
-//! sweeps, the shakedown limit `lambda_2` by linear programming, the memory
+//! Analysis of runs: cases and sweeps, the shakedown limit `lambda_2` by linear programming, the memory
 //! measures `R` and `r` of Fig. 4, slip maps and the ratchetting threshold
 //! `lambda_3`.
 
@@ -7,7 +6,7 @@ pub mod case;
 pub mod limit;
 pub mod limit_curve;
 pub mod memory;
+pub mod ordered;
 pub mod regime;
 pub mod slip_map;
-pub mod steady;
 pub mod sweep;

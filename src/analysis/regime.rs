@@ -9,8 +9,8 @@
 //! initial path): [`RegimeMap::from_rows`], or from plain cells with
 //! [`RegimeMap::from_cells`] (a figure's CSV, or the terminal's sweep view).
 
-use crate::analysis::steady::SteadyState;
 use crate::analysis::sweep::Row;
+use crate::stepping::steady::SteadyState;
 
 /// One cell of the map: the state of the run (`None` when it failed) and
 /// its `W`.

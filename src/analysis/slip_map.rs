@@ -9,9 +9,9 @@
 use std::f64::consts::PI;
 
 use crate::analysis::case::Case;
-use crate::analysis::steady::SteadyState;
 use crate::contact::SlipDirection;
 use crate::model::{Cycle, LoadPoint, Material};
+use crate::stepping::steady::SteadyState;
 use crate::stepping::{
     drive, Control, Goal, Phase, Status, StepError, StepReport, Stepper, Summary,
 };
@@ -132,15 +132,15 @@ impl SlipMap {
     pub const HEADER: &'static str = "omega_t,theta,direction";
 
     /// Long CSV under [`SlipMap::HEADER`]: one line per increment and node,
-    /// `direction` the node's [`SlipDirection::sign`] in `{-1, 0, 1}`
-    /// (`0` is stick; the sign follows the code's [`SlipDirection`], see
-    /// model.md section 1.3 for forward and backward); `omega_t` is the end
-    /// of the increment and `theta` is in `[-pi, pi)`.
+    /// `direction` the node's [`SlipDirection::paper_sign`]: `1` forward,
+    /// `-1` backward in the paper's sense (model.md section 1.3), `0`
+    /// stick; `omega_t` is the end of the increment and `theta` is in
+    /// `[-pi, pi)`.
     pub fn csv(&self) -> String {
         let mut out = format!("{}\n", Self::HEADER);
         for r in &self.rows {
             for (j, d) in r.directions.iter().enumerate() {
-                out.push_str(&format!("{},{},{}\n", r.t1, self.theta(j), d.sign()));
+                out.push_str(&format!("{},{},{}\n", r.t1, self.theta(j), d.paper_sign()));
             }
         }
         out

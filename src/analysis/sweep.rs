@@ -15,13 +15,14 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::case::Case;
 use crate::analysis::limit::{optimal_initial, LimitError};
-use crate::analysis::steady::SteadyState;
+use crate::analysis::ordered::{run_ordered, Abort, Interrupt, Progress};
 use crate::contact::Contact;
-use crate::io::batch::{run_ordered, Abort, Interrupt, Progress};
 use crate::model::path::Initial;
 use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError};
+use crate::stepping::steady::SteadyState;
 use crate::stepping::{
-    drive, operators, Control, Driven, Goal, StepError, StepOptions, StepReport, Stepper, Summary,
+    drive, operators, AtCenter, Control, Driven, Goal, StepError, StepOptions, StepReport, Stepper,
+    Summary,
 };
 
 /// The swept lists of a sweep: `lambda`, `phi` and the initial paths.
@@ -47,7 +48,7 @@ pub enum Axis {
 
 /// The contact at the cycle centre `A` after one initial path, or the
 /// summary of a transient that already ended (gross slip, separation).
-pub type Prepared = Result<Result<Contact, Summary>, StepError>;
+pub type Prepared = Result<AtCenter, StepError>;
 
 /// What a sweep runs: the product `load_factors x phases x initials`, all
 /// with one material, discretisation, solver options, cycle centre `A` and
@@ -190,8 +191,8 @@ impl SweepSpec {
             case.material,
             case.disc,
             case.options,
-            case.cycle.center,
-            case.cycle.slope,
+            case.cycle.center(),
+            case.cycle.slope(),
             lists.clone(),
         )
     }
@@ -366,7 +367,7 @@ impl SweepSpec {
 
     /// Run `jobs` and hand each row to `deliver` in job order, as soon as
     /// it and all the rows before it are done (see
-    /// [`crate::io::batch::run_ordered`]). So an output written row by row is
+    /// [`crate::analysis::ordered::run_ordered`]). So an output written row by row is
     /// always the start of the complete output. `interrupt` stops the
     /// sweep: draining finishes the runs in progress, aborting drops them
     /// at their next increment. Only the transients (and optimal slips) the
@@ -476,8 +477,8 @@ impl Starts {
             initial => {
                 match self.shared[job.initial].get_or_init(|| spec.prepare_one(ops, initial)) {
                     Err(e) => Err(RunError::Step(e.clone())),
-                    Ok(Err(summary)) => Ok(Err(summary)),
-                    Ok(Ok(contact)) => Ok(Ok(contact)),
+                    Ok(AtCenter::Ended(summary)) => Ok(Err(summary)),
+                    Ok(AtCenter::Ready(contact)) => Ok(Ok(contact)),
                 }
             }
         }

@@ -88,7 +88,16 @@ const SUFFIXES: [&str; 5] = [".csv", "_limit.csv", "_load.csv", ".svg", ".png"];
 /// Draw the plot into temporary files beside `svg` and `png`, then rename
 /// them into place: an interrupted or failed drawing leaves the old ones.
 fn write_plot<D: Drawing>(plot: &D, svg: &Path, png: &Path) -> Result<()> {
-    let (tsvg, tpng) = (temp_path(svg), temp_path(png));
+    // The backends choose the format by extension: keep it last.
+    let temp = |p: &Path| {
+        let name = p.file_name().map(|n| n.to_string_lossy().into_owned());
+        p.with_file_name(format!(
+            ".tmp-{}-{}",
+            std::process::id(),
+            name.unwrap_or_default()
+        ))
+    };
+    let (tsvg, tpng) = (temp(svg), temp(png));
     let result = write_svg_png(plot, &tsvg, &tpng)
         .map_err(anyhow::Error::from)
         .and_then(|()| {

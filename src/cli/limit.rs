@@ -82,8 +82,8 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
         None => DEFAULT_SAMPLES,
     };
     let _lock = prepare_out(&args)?;
-    let (material, center) = (case.material, case.cycle.center);
-    let (slope, phase) = (case.cycle.slope, case.cycle.phase);
+    let (material, center) = (case.material, case.cycle.center());
+    let (slope, phase) = (case.cycle.slope(), case.cycle.phase());
     let limit =
         shakedown_limit(&material, center, slope, phase, &case.disc, samples).map_err(classify)?;
     // Convergence in the sample count (a line has nothing to converge).
@@ -226,8 +226,8 @@ fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
     };
     let points = limit_curve(
         &case.material,
-        case.cycle.center,
-        case.cycle.slope,
+        case.cycle.center(),
+        case.cycle.slope(),
         &phases,
         &case.disc,
         samples,

@@ -6,7 +6,7 @@ use anyhow::Result;
 use clap::Args;
 use serde_json::json;
 use shakedown::analysis::case::CaseParams;
-use shakedown::analysis::steady::Approach;
+use shakedown::stepping::steady::Approach;
 use shakedown::stepping::Summary;
 
 use super::batch::print_stdout;
@@ -64,6 +64,9 @@ pub fn to_json(params: &CaseParams, s: &Summary, history: &[f64]) -> serde_json:
         "terminal_load": s.terminal_load,
         "terminal_time": s.terminal_time,
         "terminal_theta": s.terminal_theta,
+        "trend": s.trend,
+        "outcome": s.outcome(),
+        "version": env!("CARGO_PKG_VERSION"),
         "dissipation_history": history,
         "parameters": {
             "lambda": params.load_factor,
@@ -100,11 +103,11 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
         p.friction, p.poisson, p.plane, p.initial, p.nodes, p.steps
     );
     let how = match s.approach {
-        Approach::NoSlip => "a whole cycle without slip".to_string(),
-        Approach::Settled => "W changed by less than 0.01 % between cycles".to_string(),
-        Approach::Asymptotic => {
-            "W decays towards zero cycle by cycle: shakedown is reached asymptotically".to_string()
-        }
+        Approach::NoSlipCycle => "a whole cycle without slip".to_string(),
+        Approach::Converged => format!(
+            "W changed by less than 0.01 % over {} successive cycles",
+            shakedown::stepping::steady::SETTLE_CYCLES
+        ),
         Approach::Terminal => match (s.terminal_load, s.terminal_time) {
             (Some(l), Some(t)) => format!(
                 "at load point {l}, omega t = {t:.4} in cycle {}",
@@ -113,7 +116,10 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
             (Some(l), None) => format!("at load point {l} in the initial transient"),
             _ => String::new(),
         },
-        Approach::CycleCap => format!("the cap of {} cycles was reached", p.max_cycles),
+        Approach::Cap => format!(
+            "the cap of {} cycles was reached with W still changing",
+            p.max_cycles
+        ),
     };
     let _ = writeln!(o, "state     {}  ({how})", s.state);
     let _ = writeln!(
@@ -127,6 +133,17 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
         s.rotation_per_cycle
     );
     let _ = writeln!(o, "cycles    {}", s.cycles);
+    if let Some(t) = &s.trend {
+        let _ = writeln!(
+            o,
+            "trend     W heading for {:.3e} +- {:.3e}  (changes shrink by {:.4} a cycle; W ~ k^-{:.2} over the last {} cycles)",
+            t.limit,
+            t.uncertainty,
+            t.ratio,
+            t.exponent,
+            shakedown::stepping::verdict::WINDOW
+        );
+    }
     if history.len() > 1 {
         let shown: Vec<String> = history
             .iter()

@@ -145,6 +145,7 @@ pub enum ContactEventKind {
 /// An event located exactly within an increment.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactEvent {
+    /// What happened.
     pub kind: ContactEventKind,
     /// Parameter in `[0, 1]` of the increment's straight segment.
     pub fraction: f64,
@@ -157,8 +158,9 @@ pub struct ContactEvent {
 /// What the last [`Contact::advance`] did.
 #[derive(Debug, Clone)]
 pub struct Increment {
-    /// The segment's end points.
+    /// The segment's start point.
     pub from: LoadPoint,
+    /// The segment's end point.
     pub to: LoadPoint,
     /// How far along the segment the contact got: 1 unless the run ended
     /// (gross slip, separation) or the rate problem failed.
@@ -177,8 +179,9 @@ pub struct Increment {
     pub slipped: bool,
     /// Whether the slip set or a direction changed.
     pub set_changed: bool,
-    /// Rate problems solved, and LU factorisations computed.
+    /// Rate problems solved.
     pub rate_solves: usize,
+    /// LU factorisations computed.
     pub factorisations: usize,
     /// The increment (or its rest) was solved by the finite-step active-set
     /// iteration because the rate problem did not settle.
@@ -870,11 +873,7 @@ impl Contact {
                     let h0 = f * p - sigma * q;
                     let h1 = f * e.rp[j] - sigma * e.rq[j];
                     if h0 <= TRACTION_TOL && h1 < -RATE_TOL && h0 + remaining * h1 < -TRACTION_TOL {
-                        e.trial[j] = if sigma > 0.0 {
-                            SlipDirection::Forward
-                        } else {
-                            SlipDirection::Backward
-                        };
+                        e.trial[j] = SlipDirection::from_sign(sigma);
                         changed = true;
                         break;
                     }

@@ -43,6 +43,7 @@ pub struct FftScratch {
 }
 
 impl Operators {
+    /// `H` and `|D|` on `nodes` equally spaced nodes (model.md section 3).
     pub fn new(nodes: usize) -> Self {
         let n = nodes;
         let half = n / 2;
@@ -131,6 +132,7 @@ impl Operators {
         }
     }
 
+    /// Number of nodes `N`.
     pub fn nodes(&self) -> usize {
         self.nodes
     }

@@ -15,33 +15,51 @@ use super::operators::{FftScratch, Operators};
 use super::reduced::ReducedSolver;
 use crate::model::{LoadPoint, Material};
 
-/// Direction of slip at one node during the last increment.
+/// Direction of slip at one node during the last increment, named as the
+/// paper names it (model.md section 1.3): **forward** slip is `dh > 0`, that
+/// is `dg < 0` (`g` is proportional to `-h`), with `q = -f p`: the disc
+/// moves clockwise relative to the plate, the way a positive torque drives
+/// it. It is the direction of the ratchet at the paper's points B and C.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum SlipDirection {
+    /// No slip.
     #[default]
     Stick,
-    /// `dg > 0`: the disc slips counter-clockwise relative to the plate.
+    /// The paper's forward slip: `dh > 0`, `dg < 0`, `q = -f p`.
     Forward,
-    /// `dg < 0`.
+    /// The paper's backward slip: `dh < 0`, `dg > 0`, `q = +f p`.
     Backward,
 }
 
 impl SlipDirection {
+    /// The sign of `dg` for this direction: `-1` forward, `+1` backward,
+    /// `0` for stick (it is also the sign of `q` at the friction limit).
     pub fn sign(self) -> f64 {
         match self {
             SlipDirection::Stick => 0.0,
-            SlipDirection::Forward => 1.0,
-            SlipDirection::Backward => -1.0,
+            SlipDirection::Backward => 1.0,
+            SlipDirection::Forward => -1.0,
         }
     }
-    fn from_sign(s: f64) -> Self {
+    /// The direction whose `dg` has the sign of `s`.
+    pub(crate) fn from_sign(s: f64) -> Self {
         if s > 0.0 {
-            SlipDirection::Forward
-        } else {
             SlipDirection::Backward
+        } else {
+            SlipDirection::Forward
         }
     }
+    /// `+1` for forward slip, `-1` for backward, `0` for stick: the paper's
+    /// sense, as the slip-map CSV writes it.
+    pub fn paper_sign(self) -> i8 {
+        match self {
+            SlipDirection::Stick => 0,
+            SlipDirection::Forward => 1,
+            SlipDirection::Backward => -1,
+        }
+    }
+    /// Whether the node slips.
     pub fn is_slipping(self) -> bool {
         self != SlipDirection::Stick
     }
@@ -51,19 +69,37 @@ impl SlipDirection {
 /// states, not numerical failures.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ContactError {
+    /// `|y|` reached `2 pi`: the friction torque cannot grow further and the
+    /// whole interface slides (model.md section 2). The stepper reports it
+    /// as an outcome, not a failure.
     #[error("gross slip at load point {load}: the whole interface slides")]
-    GrossSlip { load: LoadPoint },
+    GrossSlip {
+        /// Where it happened.
+        load: LoadPoint,
+    },
+    /// The pressure reached zero at a node. The stepper reports it as an
+    /// outcome, not a failure.
     #[error(
         "separation at load point {load}: p = {pressure:.4} < 0 at theta = {theta:.4} rad (node {node})"
     )]
     Separation {
+        /// Where it happened.
         load: LoadPoint,
+        /// The node that separated.
         node: usize,
+        /// Its angle.
         theta: f64,
+        /// Its pressure (at most 0).
         pressure: f64,
     },
+    /// A numerical failure: the active set did not settle.
     #[error("active set did not settle at load point {load} after {iterations} iterations")]
-    NotSettled { load: LoadPoint, iterations: usize },
+    NotSettled {
+        /// Where it happened.
+        load: LoadPoint,
+        /// Iterations tried.
+        iterations: usize,
+    },
 }
 
 pub(super) fn most_negative(p: &[f64]) -> Option<(usize, f64)> {
@@ -90,10 +126,15 @@ pub(super) const DG_TOL: f64 = 1e-10;
 /// The result of solving one increment, not yet committed.
 #[derive(Debug, Clone)]
 pub struct Trial {
+    /// The load point the increment ends at.
     pub load: LoadPoint,
+    /// `dg` at every node.
     pub slip_increment: Vec<f64>,
+    /// `p` at every node at the end of the increment.
     pub pressure: Vec<f64>,
+    /// `q` at every node at the end of the increment.
     pub shear: Vec<f64>,
+    /// How each node slipped during the increment.
     pub directions: Vec<SlipDirection>,
     /// `1/2 int q dg dtheta` over this increment (>= 0).
     pub dissipation: f64,
@@ -270,12 +311,15 @@ impl Contact {
         &self.residual_shear
     }
 
+    /// The material (friction and elastic constants).
     pub fn material(&self) -> &Material {
         &self.material
     }
+    /// Number of nodes `N`.
     pub fn nodes(&self) -> usize {
         self.slip.len()
     }
+    /// The load point the contact is at.
     pub fn load(&self) -> LoadPoint {
         self.load
     }

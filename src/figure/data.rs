@@ -2,8 +2,8 @@
 //! from the runs themselves or back from the CSV a figure wrote (so a
 //! figure can be redrawn without running anything).
 
-use crate::analysis::steady::SteadyState;
 use crate::analysis::sweep::{Row, CSV_HEADER};
+use crate::stepping::steady::SteadyState;
 
 /// One run of a sweep as the figures see it.
 #[derive(Debug, Clone, PartialEq)]

@@ -14,9 +14,9 @@ use super::style::{
     font, glyph, legend, line_sample, optimal_glyph, padded, s, Drawing, Mark, Pattern, GREY,
     LIGHT_GREY, PALETTE, W_LABEL,
 };
-use crate::analysis::steady::SteadyState;
 use crate::analysis::sweep::Axis;
 use crate::io::preset::RatchettingMarkers;
+use crate::stepping::steady::SteadyState;
 
 /// `W` against `lambda` or `phi` (Figs. 3, 6, 8, 9).
 pub struct DissipationPlot<'a> {

@@ -36,16 +36,34 @@ use crate::stepping::StepError;
 /// A figure that cannot be made.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FigureError {
+    /// A run behind the figure failed numerically.
     #[error(transparent)]
     Step(#[from] StepError),
+    /// The `lambda_2` linear programme (model.md section 7.3) failed.
     #[error(transparent)]
     Limit(#[from] LimitError),
+    /// The memory measures `R` and `r` (model.md sections 7.1, 7.2) could
+    /// not be computed.
     #[error(transparent)]
     Memory(#[from] MemoryError),
+    /// The slip map of a steady cycle could not be computed.
     #[error(transparent)]
     SlipMap(#[from] SlipMapError),
+    /// The figure could not be drawn: the bundled font could not be
+    /// loaded, or a plotters backend failed (e.g. on an unwritable path).
     #[error("cannot draw {file}: {message}")]
-    Draw { file: String, message: String },
+    Draw {
+        /// The file being drawn (or the font file).
+        file: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// A file of the figure could not be written.
     #[error("cannot write {file}: {message}")]
-    Write { file: String, message: String },
+    Write {
+        /// The file that could not be written.
+        file: String,
+        /// What went wrong.
+        message: String,
+    },
 }

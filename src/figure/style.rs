@@ -14,9 +14,9 @@ use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 
 use super::FigureError;
-use crate::analysis::steady::SteadyState;
 use crate::contact::SlipDirection;
 use crate::io::preset::RatchettingMarkers;
+use crate::stepping::steady::SteadyState;
 
 static FONT_BYTES: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 const FAMILY: &str = "sans-serif";
@@ -365,8 +365,8 @@ pub(crate) fn pi_label(v: &f64) -> String {
 /// so it stays right when they are renamed.
 pub(crate) fn direction_label(d: SlipDirection) -> &'static str {
     match d {
-        SlipDirection::Backward => "forward slip (paper's sense: dh > 0, dg < 0)",
-        SlipDirection::Forward => "backward slip (paper's sense: dh < 0, dg > 0)",
+        SlipDirection::Forward => "forward slip (paper's sense: dh > 0, dg < 0)",
+        SlipDirection::Backward => "backward slip (paper's sense: dh < 0, dg > 0)",
         SlipDirection::Stick => "stick",
     }
 }
@@ -375,8 +375,8 @@ pub(crate) fn direction_label(d: SlipDirection) -> &'static str {
 /// (the ratchet direction) red, backward blue.
 pub(crate) fn direction_colour(d: SlipDirection) -> RGBColor {
     match d {
-        SlipDirection::Backward => DARK_RED,
-        SlipDirection::Forward => DARK_BLUE,
+        SlipDirection::Forward => DARK_RED,
+        SlipDirection::Backward => DARK_BLUE,
         SlipDirection::Stick => WHITE,
     }
 }

@@ -12,10 +12,10 @@ use std::fmt::Write as _;
 
 use crate::analysis::case::Case;
 use crate::analysis::limit::Limit;
-use crate::analysis::steady::SteadyState;
 use crate::analysis::sweep::{SweepSpec, CSV_HEADER};
 use crate::io::read::escape_text;
 use crate::model::{Discretisation, LoadPoint, Material};
+use crate::stepping::steady::SteadyState;
 
 /// The version of the tool that wrote a file, as its first comment line says.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
@@ -205,10 +205,15 @@ pub fn sweep_metadata(spec: &SweepSpec) -> Metadata {
 /// discretisation, `lambda`, `phi` and the initial path.
 pub fn case_metadata(table: &str, case: &Case, initial: &str) -> Metadata {
     let mut m = Metadata::new(table);
-    model_entries(&mut m, &case.material, case.cycle.center, case.cycle.slope);
+    model_entries(
+        &mut m,
+        &case.material,
+        case.cycle.center(),
+        case.cycle.slope(),
+    );
     disc_entries(&mut m, &case.disc, case.options.convergence.max_cycles);
-    m.push("lambda", case.cycle.load_factor);
-    m.push("phi", case.cycle.phase);
+    m.push("lambda", case.cycle.load_factor());
+    m.push("phi", case.cycle.phase());
     m.push("initial", initial);
     m
 }

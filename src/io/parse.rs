@@ -7,18 +7,26 @@ use std::f64::consts::PI;
 /// A number, angle or range that could not be read.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParseError {
+    /// Not a finite number (or not a point `x,y`); holds the text.
     #[error("'{0}' is not a number")]
     Number(String),
+    /// Not an angle in radians or a multiple of pi; holds the text.
     #[error("'{0}' is not an angle: use radians (1.57) or multiples of pi (0.5pi, pi/2, -3pi/4)")]
     Angle(String),
+    /// Not a list or a range `start:stop:step` with `step > 0` and
+    /// `stop >= start`; holds the text.
     #[error(
         "'{0}' is not a range: use start:stop:step with step > 0 (e.g. 3:7.5:0.05) or a list a,b,c"
     )]
     Range(String),
+    /// A list or range with more than [`MAX_VALUES`] values.
     #[error("range '{text}' has {count} values: at most {max} are allowed")]
     TooMany {
+        /// The list or range as typed.
         text: String,
+        /// The number of values it would give.
         count: usize,
+        /// The most allowed, [`MAX_VALUES`].
         max: usize,
     },
 }
@@ -35,12 +43,26 @@ fn number(text: &str) -> Option<f64> {
 }
 
 /// A plain finite number.
+///
+/// # Errors
+///
+/// [`ParseError::Number`] for empty text, text that is not a number, and
+/// infinite or NaN values.
 pub fn parse_number(text: &str) -> Result<f64, ParseError> {
     number(text).ok_or_else(|| ParseError::Number(text.to_string()))
 }
 
 /// An angle in radians: `1.2`, `pi`, `-pi`, `0.5pi`, `0.5*pi`, `pi/2`,
 /// `3pi/4`, `-3*pi/4`.
+///
+/// Used for the phase φ (`phase`) and for load-plane coordinates, which
+/// are multiples of pi in the paper (model.md section 5). Case and spaces
+/// are ignored.
+///
+/// # Errors
+///
+/// [`ParseError::Angle`] for anything else, a zero denominator or a value
+/// that is not finite.
 pub fn parse_angle(text: &str) -> Result<f64, ParseError> {
     let err = || ParseError::Angle(text.to_string());
     let t: String = text.trim().to_ascii_lowercase().replace(' ', "");
@@ -83,6 +105,13 @@ pub fn parse_angle(text: &str) -> Result<f64, ParseError> {
 
 /// A list `a,b,c` or a range `start:stop:step` (inclusive of `stop` up to
 /// rounding) of values read by `item`. A single value is a list of one.
+///
+/// # Errors
+///
+/// [`ParseError::Range`] for empty text, a range without three parts, a
+/// bound or step that `item` cannot read, `step <= 0` or `stop < start`;
+/// [`ParseError::TooMany`] for more than [`MAX_VALUES`] values; in a list,
+/// the error of `item` on the first value it cannot read.
 pub fn parse_values(
     text: &str,
     item: impl Fn(&str) -> Result<f64, ParseError>,
@@ -149,6 +178,14 @@ fn round12(v: f64) -> f64 {
 }
 
 /// A point `x,y`.
+///
+/// A point of the load plane (model.md section 1.1), each coordinate an
+/// angle as [`parse_angle`] reads it.
+///
+/// # Errors
+///
+/// [`ParseError::Number`] unless there are exactly two comma-separated
+/// parts; [`ParseError::Angle`] for a coordinate that is not an angle.
 pub fn parse_point(text: &str) -> Result<(f64, f64), ParseError> {
     let parts: Vec<&str> = text.split(',').collect();
     if parts.len() != 2 {
@@ -159,6 +196,11 @@ pub fn parse_point(text: &str) -> Result<(f64, f64), ParseError> {
 
 /// Load-plane points `x1,y1;x2,y2;...`, each coordinate an angle as
 /// [`parse_angle`] reads it (`1.75pi,-1.75pi`). At least one point.
+///
+/// # Errors
+///
+/// [`ParseError::Number`] when there is no point; otherwise as
+/// [`parse_point`] on the first point that does not parse.
 pub fn parse_points(text: &str) -> Result<Vec<(f64, f64)>, ParseError> {
     let parts: Vec<&str> = text
         .split(';')

@@ -36,18 +36,43 @@ pub const BUILTIN: [(&str, &str); 8] = [
 /// A preset that cannot be used.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PresetError {
+    /// The name is neither a built-in preset nor a path to a file.
     #[error("preset '{name}' is not known: expected one of {known}, or a path to a .toml file")]
-    Unknown { name: String, known: String },
+    Unknown {
+        /// The name asked for.
+        name: String,
+        /// The built-in names, comma separated ([`builtin_names`]).
+        known: String,
+    },
+    /// The preset file could not be read (missing, unreadable, too large
+    /// or not UTF-8).
     #[error("{file}: cannot read the preset: {message}")]
-    Read { file: String, message: String },
-    #[error("{file}:{line}: {message}")]
-    Invalid {
+    Read {
+        /// The path, as given (escaped for display).
         file: String,
-        line: usize,
+        /// Why it could not be read.
         message: String,
     },
+    /// A value in the file is wrong: bad TOML, an unknown key, a value out
+    /// of range; the error points at its line.
+    #[error("{file}:{line}: {message}")]
+    Invalid {
+        /// The file, as named in errors (`presets/fig3.toml`).
+        file: String,
+        /// The 1-based line of the offending key or value.
+        line: usize,
+        /// What is wrong, naming the key (`case.friction: ...`).
+        message: String,
+    },
+    /// The file is wrong as a whole, with no one line to point at (a
+    /// missing key, a combination of values, a sweep over the run cap).
     #[error("{file}: {message}")]
-    InvalidFile { file: String, message: String },
+    InvalidFile {
+        /// The file, as named in errors (`presets/fig3.toml`).
+        file: String,
+        /// What is wrong.
+        message: String,
+    },
 }
 
 /// What `shakedown figure` draws.
@@ -81,8 +106,13 @@ pub enum RatchettingMarkers {
 /// The `[figure]` table, resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FigureSpec {
+    /// Which figure to draw (`kind`).
     pub kind: FigureKind,
+    /// The swept variable on the horizontal axis, λ (`load_factor`) or φ
+    /// (`phase`) (`x`; default `lambda`).
     pub axis: Axis,
+    /// How ratchetting is marked (`ratchetting`; default `edge`, as in
+    /// Fig. 3).
     pub ratchetting: RatchettingMarkers,
     /// Mark `lambda_2` (by linear programming) on the plot.
     pub limit: bool,
@@ -96,13 +126,20 @@ pub struct FigureSpec {
 /// A loaded, validated preset.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Preset {
+    /// The preset's name (`name`, or the file's stem): also the stem of
+    /// the files `shakedown figure` writes.
     pub name: String,
+    /// One line saying what the preset computes (`description`).
     pub description: String,
     /// Where it came from, as named in errors (`presets/fig3.toml`).
     pub file: String,
     /// The base case.
     pub params: CaseParams,
+    /// The swept lists of λ (`load_factor`), φ (`phase`) and initial
+    /// transients (`[sweep]`); a key that is absent sweeps the base case's
+    /// single value.
     pub sweep: SweepLists,
+    /// What `shakedown figure` draws (`[figure]`), if the preset says.
     pub figure: Option<FigureSpec>,
     /// A custom transient `O -> points -> A` (`[case] initial-path`), which
     /// `run` and `tui` use instead of `initial`; a sweep without its own
@@ -117,6 +154,14 @@ pub fn builtin_names() -> String {
 
 /// Load a built-in preset by name, or a file when `name` contains a path
 /// separator or ends in `.toml`.
+///
+/// Built-in names are matched ignoring ASCII case and surrounding spaces.
+///
+/// # Errors
+///
+/// [`PresetError::Unknown`] for a name that is not built in;
+/// [`PresetError::Read`] when the file cannot be read; otherwise as
+/// [`parse`].
 pub fn load(name: &str) -> Result<Preset, PresetError> {
     let looks_like_path = name.contains('/') || name.contains('\\') || name.ends_with(".toml");
     if looks_like_path {
@@ -356,6 +401,15 @@ impl Ctx<'_> {
 
 /// Parse and validate preset text. `file` names it in errors; `default_name`
 /// is used when the file has no `name`.
+///
+/// # Errors
+///
+/// [`PresetError::Invalid`] with the line of the offending key or value
+/// (bad TOML, an unknown key, an empty name or description, a parameter
+/// out of range, a value, list or initial path that does not parse);
+/// [`PresetError::InvalidFile`] where no one line is at fault (e.g. a
+/// sweep with more runs than the cap, or an unusable name taken from the
+/// file name).
 pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Preset, PresetError> {
     let ctx = Ctx { text, file };
     let raw: FileToml = toml::from_str(text).map_err(|e| {

@@ -36,16 +36,16 @@ use super::{finite, LoadPoint, ParamError};
 pub struct Cycle {
     /// Centre `A = (x0, y0)` (`center`): the mean loads
     /// `(chi Pt0 / f, Tt0 / f)`, where every transient ends.
-    pub center: LoadPoint,
+    center: LoadPoint,
     /// `lambda` (`load_factor`): the load factor of eq. (12),
     /// `sqrt((chi Pt1)^2 + Tt1^2) / f`, the amplitude of the cycle.
-    pub load_factor: f64,
+    load_factor: f64,
     /// `psi` (`slope`): eq. (13), `Tt1 / (chi Pt1)`; the slope of the load
     /// line for `phi = 0`.
-    pub slope: f64,
+    slope: f64,
     /// `phi` (`phase`), radians: the phase of the torque relative to the
     /// force.
-    pub phase: f64,
+    phase: f64,
 }
 
 impl Cycle {
@@ -128,6 +128,23 @@ impl Cycle {
             slope,
             phase,
         })
+    }
+
+    /// Centre `A = (x0, y0)`: the mean loads, where every transient ends.
+    pub fn center(&self) -> LoadPoint {
+        self.center
+    }
+    /// `lambda`: the load factor of eq. (12), the amplitude of the cycle.
+    pub fn load_factor(&self) -> f64 {
+        self.load_factor
+    }
+    /// `psi`: the slope of the load line for `phi = 0` (eq. 13).
+    pub fn slope(&self) -> f64 {
+        self.slope
+    }
+    /// `phi`, radians: the phase of the torque relative to the force.
+    pub fn phase(&self) -> f64 {
+        self.phase
     }
 
     /// The load point at `omega t = t` (radians), eq. (11). Periodic in `t`

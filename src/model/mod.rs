@@ -114,7 +114,7 @@ mod tests {
     fn cycle_is_a_line_of_half_length_lambda_for_zero_phase() {
         let c = Cycle::paper(2.0, 0.0).unwrap();
         let top = c.at(PI / 2.0);
-        assert!((c.center.distance(top) - 2.0).abs() < 1e-12);
-        assert!(((top.y() - c.center.y()) / (top.x() - c.center.x()) - 0.625).abs() < 1e-12);
+        assert!((c.center().distance(top) - 2.0).abs() < 1e-12);
+        assert!(((top.y() - c.center().y()) / (top.x() - c.center().x()) - 0.625).abs() < 1e-12);
     }
 }

@@ -377,7 +377,7 @@ pub fn segments(waypoints: &[LoadPoint], max_step: f64) -> Vec<Segment> {
 /// (model.md section 5.3). It belongs to the transient: slip on it counts as
 /// slip after `A` for the stuck fraction `r` (model.md section 7.2).
 pub fn entry_waypoints(cycle: &Cycle) -> Vec<LoadPoint> {
-    vec![cycle.center, cycle.start()]
+    vec![cycle.center(), cycle.start()]
 }
 
 /// Whether `p` lies in the initial stick region `|x| + |y| <= 2 pi` (model.md

@@ -4,11 +4,16 @@
 //! the one [`Stepper`] and the one driver [`drive`].
 
 mod driver;
+mod outcome;
+pub mod steady;
 mod stepper;
+pub mod verdict;
 mod zones;
 
 pub use driver::{drive, Control, Driven, Goal, Observer, Silent};
+pub use outcome::{Outcome, ShakedownProof};
 pub use stepper::{
-    operators, Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary,
+    operators, AtCenter, Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary,
 };
+pub use verdict::Trend;
 pub use zones::{slip_zones, zone_changes, SlipZone, ZoneChange};

@@ -8,8 +8,9 @@ use std::sync::Arc;
 use serde::Serialize;
 
 use super::driver::{drive, Control, Goal, Silent};
+use super::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
+use super::verdict::{trend, Trend};
 use super::zones::{slip_zones, zone_changes, ZoneChange};
-use crate::analysis::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
 use crate::contact::{Contact, ContactError, ContactEventKind, Operators, SlipDirection};
 use crate::model::path::{entry_waypoints, segments, Initial, Segment};
 use crate::model::{Cycle, Discretisation, LoadPoint, Material};
@@ -18,20 +19,32 @@ use crate::model::{Cycle, Discretisation, LoadPoint, Material};
 /// separation) are not errors: they are outcomes.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum StepError {
+    /// The active set of an increment did not settle (model.md section 3.3,
+    /// robustness), even after bisecting the increment
+    /// [`StepOptions::failure_bisections`] times: a numerical failure, kept
+    /// apart from the physical outcomes.
     #[error(
         "the active set did not settle at load point {load} ({phase}), even with the increment bisected {bisections} times"
     )]
     NotSettled {
+        /// The load point `(x, y)` of the load plane where the active set
+        /// failed to settle.
         load: LoadPoint,
+        /// Where on the path it happened, in words (transient segment or
+        /// cycle, and increment, both 1-based).
         phase: String,
+        /// Bisections tried, [`StepOptions::failure_bisections`].
         bisections: usize,
     },
     /// The stepper was given [`Initial::Optimal`], whose slip comes from the
     /// `lambda_2` linear programme: resolve it first with
-    /// [`crate::analysis::limit::resolve_initial`] (or build the run
+    /// [`crate::analysis::limit::optimal_initial`] (or build the run
     /// through [`crate::analysis::case::Case`]).
     #[error("initial path 'optimal' was not resolved to a slip distribution")]
     UnresolvedOptimal,
+    /// A parameter of the run is out of range.
+    #[error(transparent)]
+    Param(#[from] crate::model::ParamError),
 }
 
 /// Options of the stepper.
@@ -43,6 +56,8 @@ pub struct StepOptions {
     pub stick_bisections: usize,
     /// Bisections of an increment whose active set does not settle.
     pub failure_bisections: usize,
+    /// When the run has reached its steady state: the 0.01 % rule on the
+    /// dissipation `W` and the cycle cap (model.md section 6.1).
     pub convergence: Convergence,
 }
 
@@ -61,9 +76,20 @@ impl Default for StepOptions {
 #[serde(rename_all = "kebab-case")]
 pub enum Phase {
     /// In the initial transient: segment index and increment within it.
-    Transient { segment: usize, increment: usize },
+    Transient {
+        /// Index of the transient's straight segment (0-based).
+        segment: usize,
+        /// Index of the increment within the segment (0-based).
+        increment: usize,
+    },
     /// In cycle `cycle` (1-based), `increment` increments done.
-    Cycle { cycle: usize, increment: usize },
+    Cycle {
+        /// The cycle number, 1-based.
+        cycle: usize,
+        /// Increments of the cycle done so far, out of
+        /// [`Discretisation::steps_per_cycle`].
+        increment: usize,
+    },
 }
 
 /// Something the stepper observed during one step.
@@ -84,35 +110,58 @@ pub enum Event {
     /// time` in the cycle (`None` in the transient). The increment has
     /// `substeps` straight sub-segments with a fixed slip set.
     AdvancingStick {
+        /// Indices of the nodes that stuck again, with their slip `g`
+        /// locked in (model.md section 3.3).
         nodes: Vec<usize>,
+        /// Straight sub-segments of the increment with a fixed slip set.
         substeps: usize,
+        /// `omega t` in `[0, 2 pi)` in the cycle; `None` in the transient.
         time: Option<f64>,
+        /// The load point `(x, y)` where the nodes stuck.
         load: LoadPoint,
     },
     /// Stick nodes reached `|q| = f p` and started to slip, at the exact
     /// load point `load` (`omega t = time` in the cycle).
     SlipEntry {
+        /// Indices of the nodes that started to slip.
         nodes: Vec<usize>,
+        /// `omega t` in `[0, 2 pi)` in the cycle; `None` in the transient.
         time: Option<f64>,
+        /// The load point `(x, y)` where they reached the friction limit.
         load: LoadPoint,
     },
     /// The transient is over: the next step is the first of cycle 1.
     TransientFinished,
     /// A cycle ended.
     CycleCompleted {
+        /// The cycle that ended, 1-based.
         cycle: usize,
+        /// Its dissipation `W`, the paper's `W~` of eq. (16) (model.md
+        /// section 4).
         dissipation: f64,
+        /// Its net rigid rotation: the change of the mean of the slip `g`
+        /// over the cycle, negative when the disc ratchets forward
+        /// (model.md section 1.3).
         rotation: f64,
     },
     /// The steady state was reached and classified.
     SteadyStateReached(Summary),
     /// The whole interface slides: `|y|` reached `2 pi` at `load` (exact,
     /// interpolated within the increment). The run ends here.
-    GrossSlip { load: LoadPoint, time: Option<f64> },
+    GrossSlip {
+        /// The load point `(x, y)` where `|y| = 2 pi` (model.md section 2.3).
+        load: LoadPoint,
+        /// `omega t` in `[0, 2 pi)` in the cycle; `None` in the transient.
+        time: Option<f64>,
+    },
     /// The pressure reached zero at `theta`, at `load`: the run ends here.
     Separation {
+        /// The load point `(x, y)` where the pressure `p` reached zero.
         load: LoadPoint,
+        /// `omega t` in `[0, 2 pi)` in the cycle; `None` in the transient.
         time: Option<f64>,
+        /// The angle `theta` of the node where `p` reached zero (model.md
+        /// section 2.3).
         theta: f64,
     },
 }
@@ -120,7 +169,10 @@ pub enum Event {
 /// The outcome of a run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Summary {
+    /// The steady state reached (model.md section 6.2).
     pub state: SteadyState,
+    /// How the verdict was reached: a cycle without slip, the 0.01 % rule,
+    /// a terminal event or the cycle cap (model.md section 6.1).
     pub approach: Approach,
     /// `W` of the last complete cycle (model.md normalisation).
     pub dissipation: f64,
@@ -134,11 +186,32 @@ pub struct Summary {
     pub terminal_time: Option<f64>,
     /// Node angle of separation.
     pub terminal_theta: Option<f64>,
+    /// For a `not-converged` run: the trend of `W` over the last cycles and
+    /// an estimate of its limit.
+    pub trend: Option<Trend>,
+}
+
+/// Where a transient to the cycle centre `A` left the contact
+/// ([`Stepper::prepare_at_center`]).
+#[derive(Debug, Clone)]
+pub enum AtCenter {
+    /// At `A`, ready for the cycle.
+    Ready(Box<Contact>),
+    /// The transient ended the run (gross slip or separation before `A`).
+    Ended(Summary),
+}
+
+/// How a run ended physically, at the load point where it happened.
+#[derive(Debug, Clone, Copy)]
+enum Terminal {
+    GrossSlip { load: LoadPoint },
+    Separation { load: LoadPoint, theta: f64 },
 }
 
 /// What one call to [`Stepper::step`] did.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct StepReport {
+    /// What happened during the step, in order.
     pub events: Vec<Event>,
     /// Straight sub-segments with a fixed slip set (1 unless an event
     /// happened inside the increment).
@@ -158,6 +231,8 @@ pub struct StepReport {
 /// The run's status.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Status {
+    /// No verdict yet: in the transient or in a cycle before the steady
+    /// state.
     Running,
     /// Classified; stepping may continue through further cycles.
     Steady(Summary),
@@ -187,6 +262,12 @@ pub struct Stepper {
 }
 
 /// Set up the shared pieces of a run once.
+///
+/// The operators `H` and `|D|` (model.md section 2.2) on the
+/// discretisation's `N` nodes, to be shared by every run on the same nodes
+/// (e.g. the runs of a sweep, through [`Stepper::with_operators`]). Also
+/// makes faer's factorisations sequential: the reduced systems are small and
+/// sweeps are parallel over runs.
 pub fn operators(disc: &Discretisation) -> Arc<Operators> {
     // The reduced systems are small; faer's thread pool would only add
     // overhead, and sweeps are already parallel over runs.
@@ -207,6 +288,12 @@ impl Stepper {
         Self::with_operators(operators(&disc), material, disc, initial, cycle, options)
     }
 
+    /// As [`Stepper::new`], with operators `H` and `|D|` already built by
+    /// [`operators`] for the same number of nodes, so that runs can share
+    /// them.
+    ///
+    /// An [`Initial::Optimal`] that was not resolved is not an error here:
+    /// the first [`Stepper::step`] reports [`StepError::UnresolvedOptimal`].
     pub fn with_operators(
         ops: Arc<Operators>,
         material: Material,
@@ -227,9 +314,9 @@ impl Stepper {
         };
         if let Some(slip) = slip {
             contact.set_slip(&slip);
-            contact.set_load_elastic(cycle.center);
+            contact.set_load_elastic(cycle.center());
         }
-        let mut waypoints = initial.waypoints_to(cycle.center);
+        let mut waypoints = initial.waypoints_to(cycle.center());
         waypoints.push(cycle.start());
         let mut stepper = Self::from_contact(contact, &waypoints, cycle, disc, options);
         stepper.unresolved = unresolved;
@@ -281,6 +368,17 @@ impl Stepper {
 
     /// The contact after the transient up to the cycle centre `A` (the
     /// `A -> C` entry not included): it depends on the initial path only.
+    ///
+    /// It is [`AtCenter::Ready`] with the contact at `A`, or
+    /// [`AtCenter::Ended`] when the transient itself ended the run (gross
+    /// slip or separation before `A`).
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::NotSettled`] when an increment of the transient fails
+    /// numerically; [`StepError::UnresolvedOptimal`] for an
+    /// [`Initial::Optimal`] that was not resolved; [`StepError::Param`] for
+    /// a centre out of range.
     pub fn prepare_at_center(
         ops: Arc<Operators>,
         material: Material,
@@ -288,15 +386,15 @@ impl Stepper {
         initial: &Initial,
         center: LoadPoint,
         options: StepOptions,
-    ) -> Result<Result<Contact, Summary>, StepError> {
-        let dummy = Cycle::new(center, 0.0, 0.0, 0.0).expect("a zero cycle at a valid centre");
+    ) -> Result<AtCenter, StepError> {
+        let dummy = Cycle::new(center, 0.0, 0.0, 0.0)?;
         let mut s = Self::with_operators(ops, material, disc, initial, dummy, options);
         // The dummy cycle starts at A, so the transient ends exactly there.
         drive(&mut s, Goal::TransientEnd, &mut Silent)?;
         if let Status::Ended(summary) = &s.status {
-            return Ok(Err(summary.clone()));
+            return Ok(AtCenter::Ended(summary.clone()));
         }
-        Ok(Ok(s.contact))
+        Ok(AtCenter::Ready(Box::new(s.contact)))
     }
 
     /// Start the cycle from a contact prepared at the centre `A`.
@@ -309,24 +407,37 @@ impl Stepper {
         Self::from_contact(contact, &entry_waypoints(&cycle), cycle, disc, options)
     }
 
+    /// The contact in its current state: the load point, the slip `g` at
+    /// every node, the slip directions and the tractions `p`, `q`.
     pub fn contact(&self) -> &Contact {
         &self.contact
     }
+    /// The steady cycle of eq. (11): centre `A`, `load_factor` λ, `slope`
+    /// ψ and `phase` φ (model.md section 5.1).
     pub fn cycle(&self) -> &Cycle {
         &self.cycle
     }
+    /// The nodes `N` and the increments per cycle (model.md section 3.3).
     pub fn discretisation(&self) -> &Discretisation {
         &self.disc
     }
+    /// The options the run was started with.
     pub fn options(&self) -> &StepOptions {
         &self.options
     }
+    /// Where the stepper is on its path: the increment the next
+    /// [`Stepper::step`] takes. Not the cycle's phase φ (that is
+    /// [`Cycle`]'s field `phase`).
     pub fn phase(&self) -> Phase {
         self.phase
     }
+    /// Whether the run is still going, has a steady-state verdict, or has
+    /// ended.
     pub fn status(&self) -> &Status {
         &self.status
     }
+    /// The completed cycles, first to last: their dissipation `W`, net
+    /// rotation and per-node slip.
     pub fn history(&self) -> &[CycleRecord] {
         &self.history
     }
@@ -342,9 +453,14 @@ impl Stepper {
     pub fn increments(&self) -> usize {
         self.increments
     }
+    /// Whether the run has ended (gross slip or separation): further
+    /// steps do nothing. A run with a steady-state verdict is not finished;
+    /// it can step on through more cycles.
     pub fn is_finished(&self) -> bool {
         matches!(self.status, Status::Ended(_))
     }
+    /// The outcome, once there is one: the steady-state verdict or the end
+    /// of the run; `None` while [`Status::Running`].
     pub fn summary(&self) -> Option<&Summary> {
         match &self.status {
             Status::Running => None,
@@ -397,6 +513,17 @@ impl Stepper {
     }
 
     /// Advance one increment. Does nothing once the run has ended.
+    ///
+    /// Gross slip and separation are not errors: they end the run with
+    /// [`Event::GrossSlip`] or [`Event::Separation`] in the report and
+    /// [`Status::Ended`].
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::NotSettled`] when the active set of the increment does
+    /// not settle even with the increment bisected; every call reports
+    /// [`StepError::UnresolvedOptimal`] when the run was set up with an
+    /// [`Initial::Optimal`] that was not resolved.
     pub fn step(&mut self) -> Result<StepReport, StepError> {
         let mut report = StepReport::default();
         if let Some(e) = &self.unresolved {
@@ -415,8 +542,13 @@ impl Stepper {
                     bisections: self.options.failure_bisections,
                 })
             }
-            Err((e, at)) => {
-                self.end(e, at, &mut report);
+            // Gross slip and separation are outcomes, not failures.
+            Err((ContactError::GrossSlip { load }, at)) => {
+                self.end(Terminal::GrossSlip { load }, at, &mut report);
+                return Ok(report);
+            }
+            Err((ContactError::Separation { load, theta, .. }, at)) => {
+                self.end(Terminal::Separation { load, theta }, at, &mut report);
                 return Ok(report);
             }
         }
@@ -515,22 +647,21 @@ impl Stepper {
 
     /// The run ends at parameter `at` of the current increment, where the
     /// contact is and the error's load point is.
-    fn end(&mut self, error: ContactError, at: f64, report: &mut StepReport) {
+    fn end(&mut self, terminal: Terminal, at: f64, report: &mut StepReport) {
         let time = self.time_at(at);
-        let (state, load, theta, event) = match error {
-            ContactError::GrossSlip { load } => (
+        let (state, load, theta, event) = match terminal {
+            Terminal::GrossSlip { load } => (
                 SteadyState::GrossSlip,
                 load,
                 None,
                 Event::GrossSlip { load, time },
             ),
-            ContactError::Separation { load, theta, .. } => (
+            Terminal::Separation { load, theta } => (
                 SteadyState::Separation,
                 load,
                 Some(theta),
                 Event::Separation { load, time, theta },
             ),
-            ContactError::NotSettled { .. } => unreachable!("handled by step"),
         };
         let last = self.history.last();
         let summary = Summary {
@@ -542,6 +673,7 @@ impl Stepper {
             terminal_load: Some(load),
             terminal_time: time,
             terminal_theta: theta,
+            trend: None,
         };
         report.events.push(event);
         report
@@ -605,23 +737,24 @@ impl Stepper {
                         assess(&self.history, &self.options.convergence)
                     {
                         let last = self.history.last().expect("just pushed");
+                        // A run that reached the cap keeps its last cycle
+                        // and says where `W` was heading.
+                        let trend = if approach == Approach::Cap {
+                            let w: Vec<f64> = self.history.iter().map(|r| r.dissipation).collect();
+                            trend(&w)
+                        } else {
+                            None
+                        };
                         let summary = Summary {
                             state,
                             approach,
-                            dissipation: if approach == Approach::Asymptotic {
-                                0.0
-                            } else {
-                                last.dissipation
-                            },
+                            dissipation: last.dissipation,
                             cycles: self.history.len(),
-                            rotation_per_cycle: if approach == Approach::Asymptotic {
-                                0.0
-                            } else {
-                                last.rotation
-                            },
+                            rotation_per_cycle: last.rotation,
                             terminal_load: None,
                             terminal_time: None,
                             terminal_theta: None,
+                            trend,
                         };
                         report
                             .events

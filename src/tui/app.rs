@@ -29,6 +29,7 @@ use crate::stepping::{self, Phase, Status};
 
 /// `lambda` change of the arrow keys, and with Shift.
 pub const LOAD_FACTOR_STEP: f64 = 0.05;
+/// `lambda` change of Shift with the left and right arrows.
 pub const LOAD_FACTOR_BIG_STEP: f64 = 0.5;
 /// Increments per frame the speed keys choose from.
 pub const SPEEDS: [usize; 9] = [1, 2, 4, 8, 16, 32, 64, 128, 256];
@@ -79,8 +80,10 @@ impl Default for Config {
 /// What the screen shows: the one run being stepped, or a sweep's map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum View {
+    /// The one run being stepped: its panels, history and event log.
     #[default]
     Stepping,
+    /// The sweep's map over `lambda` (or `phi`), filled in the background.
     Sweep,
 }
 
@@ -91,9 +94,11 @@ pub const DEFAULT_SWEEP_PRESET: &str = "fig3";
 /// A stopping point the user asked for with `c` or `s`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Goal {
+    /// Until the transient path is done and the first cycle begins.
     TransientEnd,
     /// Until this many cycles are complete.
     CycleEnd(usize),
+    /// Until the run is classified as a steady state.
     Steady,
 }
 
@@ -102,13 +107,16 @@ pub enum Goal {
 pub enum Confirm {
     /// Quit with this exit status.
     Quit(u8),
+    /// Throw away the sweep's map and run it again.
     RestartSweep,
 }
 
 /// A run pinned for comparison.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pinned {
+    /// What the run was: `lambda`, `phi` and the initial path.
     pub label: String,
+    /// Its steady state when pinned, or `unclassified`.
     pub state: String,
     /// `(cycle, W)` of every completed cycle.
     pub cycles: Vec<(usize, f64)>,
@@ -236,30 +244,39 @@ impl App {
 
     // ----- what the panels read -------------------------------------------
 
+    /// How the explorer draws and how much it may keep.
     pub fn config(&self) -> Config {
         self.config
     }
+    /// The case being stepped, with the current `lambda`, `phi` and path.
     pub fn case(&self) -> &Case {
         &self.case
     }
+    /// The disc's contact operators, shared with the worker.
     pub fn operators(&self) -> &Arc<Operators> {
         &self.operators
     }
+    /// The load factor `lambda` of the current cycle.
     pub fn load_factor(&self) -> f64 {
-        self.case.cycle.load_factor
+        self.case.cycle.load_factor()
     }
+    /// The phase `phi` of the current cycle, in radians.
     pub fn phase(&self) -> f64 {
-        self.case.cycle.phase
+        self.case.cycle.phase()
     }
+    /// The initial paths `[` and `]` cycle through.
     pub fn paths(&self) -> &[Initial] {
         &self.paths
     }
+    /// Index of the current initial path in [`App::paths`].
     pub fn path_index(&self) -> usize {
         self.path_index
     }
+    /// Whether the run steps on by itself each frame (Space).
     pub fn is_running(&self) -> bool {
         self.running
     }
+    /// The stopping point asked for with `c` or `s`, while it is pending.
     pub fn goal(&self) -> Option<Goal> {
         self.goal
     }
@@ -267,21 +284,27 @@ impl App {
     pub fn speed(&self) -> usize {
         SPEEDS[self.speed]
     }
+    /// Whether the run pauses on events of the filter's kind (`e`).
     pub fn pauses_on_events(&self) -> bool {
         self.pause_on_events
     }
+    /// Which events the log lists, `{`/`}` jump to and `e` pauses on.
     pub fn filter(&self) -> Filter {
         self.filter
     }
+    /// Whether the help overlay is open.
     pub fn help_visible(&self) -> bool {
         self.help
     }
+    /// Whether the event log overlay is open.
     pub fn log_visible(&self) -> bool {
         self.log_open
     }
+    /// Index of the selected row among [`App::log_entries`].
     pub fn log_selected(&self) -> usize {
         self.log_selected
     }
+    /// Whether the loop should end and restore the terminal.
     pub fn should_quit(&self) -> bool {
         self.quit
     }
@@ -289,6 +312,7 @@ impl App {
     pub fn exit_code(&self) -> u8 {
         self.exit_code
     }
+    /// The question waiting for `y`, if one is asked.
     pub fn confirm(&self) -> Option<Confirm> {
         self.confirm
     }
@@ -296,6 +320,7 @@ impl App {
     pub fn entry(&self) -> Option<&str> {
         self.entry.as_deref()
     }
+    /// The record of the run's increments, for scrubbing back.
     pub fn history(&self) -> &History {
         &self.history
     }
@@ -318,15 +343,19 @@ impl App {
     pub fn cycles(&self) -> &[(usize, f64)] {
         &self.cycles
     }
+    /// The transient path's segments, from the worker's start of the run.
     pub fn transient(&self) -> &[Segment] {
         &self.transient
     }
+    /// The friction coefficient of the run, from the worker's start of the run.
     pub fn friction(&self) -> f64 {
         self.friction
     }
+    /// The largest `|g - mean g|` seen so far: the slip panel's steady scale.
     pub fn slip_scale(&self) -> f64 {
         self.slip_scale
     }
+    /// The run pinned with `p` for comparison, if any.
     pub fn pinned(&self) -> Option<&Pinned> {
         self.pinned.as_ref()
     }
@@ -375,6 +404,7 @@ impl App {
             |r| r.after,
         )
     }
+    /// The text of the newest event, or of the solver's failure.
     pub fn last_event(&self) -> Option<&str> {
         self.last_event.as_deref()
     }
@@ -382,9 +412,11 @@ impl App {
     pub fn notice(&self) -> Option<&str> {
         self.notice.as_deref()
     }
+    /// Why the solver failed, once it has; stepping is refused until a restart.
     pub fn failure(&self) -> Option<&str> {
         self.failure.as_deref()
     }
+    /// Which view is on screen.
     pub fn view(&self) -> View {
         self.view
     }
@@ -462,6 +494,7 @@ impl App {
         }
     }
 
+    /// Do what `action` asks, as its key would (also for tests).
     pub fn apply(&mut self, action: Action) {
         match action {
             Action::LoadFactorDown => self.change_load_factor(-LOAD_FACTOR_STEP),
@@ -963,7 +996,7 @@ impl App {
 
     fn change_cycle(&mut self, load_factor: f64, phase: f64, what: String) {
         let c = &self.case.cycle;
-        match Cycle::new(c.center, load_factor, c.slope, phase) {
+        match Cycle::new(c.center(), load_factor, c.slope(), phase) {
             Ok(cycle) => {
                 self.case.cycle = cycle;
                 self.restart(&what);
@@ -1258,9 +1291,9 @@ impl App {
                     }
                 }
                 _ => match Cycle::new(
-                    self.case.cycle.center,
+                    self.case.cycle.center(),
                     job.load_factor,
-                    self.case.cycle.slope,
+                    self.case.cycle.slope(),
                     job.phase,
                 )
                 .map_err(|e| e.to_string())
@@ -1282,7 +1315,7 @@ impl App {
             other => other.clone(),
         };
         let c = &self.case.cycle;
-        let cycle = match Cycle::new(c.center, job.load_factor, c.slope, job.phase) {
+        let cycle = match Cycle::new(c.center(), job.load_factor, c.slope(), job.phase) {
             Ok(cycle) => cycle,
             Err(e) => {
                 self.notice = Some(e.to_string());

@@ -8,9 +8,11 @@ use crossterm::event::{self as ct, KeyEvent, KeyEventKind, MouseEventKind};
 /// What woke the loop up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Event {
+    /// A key press or repeat (releases are dropped).
     Key(KeyEvent),
     /// The mouse wheel: `-1` a notch up (back in history), `1` down.
     Scroll(i32),
+    /// The terminal was resized to this many columns and rows.
     Resize(u16, u16),
     /// Nothing arrived before the frame was due.
     Tick,

@@ -15,9 +15,13 @@ use super::log::LogEntry;
 use crate::stepping::{Phase, Status};
 
 /// Slip-map cell codes: the direction in the low bits, a flag on top.
+/// This one: the node sticks.
 pub const STICK: u8 = 0;
+/// The node slips forward (`dh > 0`, `dg < 0`).
 pub const FORWARD: u8 = 1;
+/// The node slips backward (`dh < 0`, `dg > 0`).
 pub const BACKWARD: u8 = 2;
+/// Mask of the direction bits ([`STICK`], [`FORWARD`], [`BACKWARD`]).
 pub const DIRECTION_MASK: u8 = 3;
 /// The node went from slip to stick during this increment.
 pub const NEWLY_STUCK: u8 = 4;
@@ -25,7 +29,9 @@ pub const NEWLY_STUCK: u8 = 4;
 /// The per-node profiles of one increment, the heavy part of a record.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Detail {
+    /// Contact pressure `p` at each node, scaled by `p0`.
     pub pressure: Vec<f32>,
+    /// Contact shear `q` at each node, scaled by `p0`.
     pub shear: Vec<f32>,
     /// `g` minus its mean (the rigid rotation, kept in the record).
     pub slip: Vec<f32>,
@@ -66,6 +72,7 @@ pub struct Record {
     pub dissipation: f64,
     /// The rigid rotation (mean of `g`).
     pub rotation: f64,
+    /// The run's status (running, steady, ended) after the increment.
     pub status: Status,
     /// What the increment did, described for the event log.
     pub events: Vec<LogEntry>,
@@ -124,6 +131,7 @@ pub struct History {
 const RECENT_SHARE: usize = 2;
 
 impl History {
+    /// An empty history that may use `budget` bytes (at least 64 KiB).
     pub fn new(budget: usize) -> Self {
         Self {
             records: VecDeque::new(),
@@ -135,28 +143,36 @@ impl History {
         }
     }
 
+    /// Forget every record, keeping the budget.
     pub fn clear(&mut self) {
         *self = Self::new(self.budget);
     }
 
+    /// Bytes the history may use.
     pub fn budget(&self) -> usize {
         self.budget
     }
+    /// Bytes the records use now, as the budget counts them.
     pub fn bytes(&self) -> usize {
         self.bytes
     }
+    /// Number of increments kept.
     pub fn len(&self) -> usize {
         self.records.len()
     }
+    /// Whether no increment is kept.
     pub fn is_empty(&self) -> bool {
         self.records.is_empty()
     }
+    /// The increments kept, oldest first.
     pub fn iter(&self) -> impl DoubleEndedIterator<Item = &Record> + ExactSizeIterator {
         self.records.iter()
     }
+    /// The newest increment kept.
     pub fn newest(&self) -> Option<&Record> {
         self.records.back()
     }
+    /// The oldest increment kept (older ones were dropped).
     pub fn oldest(&self) -> Option<&Record> {
         self.records.front()
     }
@@ -186,6 +202,7 @@ impl History {
             .find_map(|r| r.detail.as_deref().map(|d| (r, d)))
     }
 
+    /// File the next increment, thinning or dropping old ones if over budget.
     pub fn push(&mut self, record: Record) {
         self.bytes += record.bytes();
         self.records.push_back(record);

@@ -11,59 +11,120 @@ pub use super::app::View;
 /// Everything a key can ask the explorer to do.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Action {
+    /// `←`: lower `lambda` by [`LOAD_FACTOR_STEP`](super::app::LOAD_FACTOR_STEP)
+    /// and restart.
     LoadFactorDown,
+    /// `→`: raise `lambda` by [`LOAD_FACTOR_STEP`](super::app::LOAD_FACTOR_STEP)
+    /// and restart.
     LoadFactorUp,
+    /// Shift-`←`: lower `lambda` by [`LOAD_FACTOR_BIG_STEP`](super::app::LOAD_FACTOR_BIG_STEP)
+    /// and restart.
     LoadFactorDownBig,
+    /// Shift-`→`: raise `lambda` by [`LOAD_FACTOR_BIG_STEP`](super::app::LOAD_FACTOR_BIG_STEP)
+    /// and restart.
     LoadFactorUpBig,
+    /// `↓`: lower `phi` by [`PHASE_STEP`](super::app::PHASE_STEP)
+    /// (pi/24) and restart.
     PhaseDown,
+    /// `↑`: raise `phi` by [`PHASE_STEP`](super::app::PHASE_STEP)
+    /// (pi/24) and restart.
     PhaseUp,
+    /// `[`: the previous initial path, and restart.
     PreviousPath,
+    /// `]`: the next initial path, and restart.
     NextPath,
+    /// Space: run, or pause (also cancels a pending `c` or `s`).
     RunPause,
+    /// `n`: pause and take exactly one increment.
     StepOne,
+    /// `,` `h`: one increment back in history (pauses).
     Back1,
+    /// `.` `l`: one increment forward in history; past the newest goes live.
     Forward1,
+    /// `<` PgUp: one cycle back in history.
     BackCycle,
+    /// `>` PgDn: one cycle forward in history.
     ForwardCycle,
+    /// Home: the oldest increment kept.
     Oldest,
+    /// End: follow the newest increment again.
     Live,
+    /// `{`: the previous event matching the filter.
     PrevEvent,
+    /// `}`: the next event matching the filter.
     NextEvent,
+    /// `k`: cycle the filter's event kind ([`KINDS`](super::log::KINDS)).
     EventKind,
+    /// `m`: cycle the filter's least advancing-stick size
+    /// ([`MIN_NODES`](super::log::MIN_NODES)).
     MinNodes,
+    /// `L` `E`: open or close the event log.
     ToggleLog,
+    /// Event log: select the previous entry.
     LogUp,
+    /// Event log: select the next entry.
     LogDown,
+    /// Event log: ten entries up.
     LogPageUp,
+    /// Event log: ten entries down.
     LogPageDown,
+    /// Event log: the first entry.
     LogFirst,
+    /// Event log: the last entry.
     LogLast,
+    /// Event log: show the selected entry's increment and close the log.
     LogGo,
+    /// `p`: pin the run on screen for comparison, or unpin.
     Pin,
+    /// `:`: open the prompt for `lambda = ...`, `phi = ...` or `path = ...`.
     Entry,
+    /// `c`: run to the end of the transient or of the current cycle.
     ToCycleEnd,
+    /// `s`: run to the steady state.
     ToSteady,
+    /// `r`: rerun the case from the start.
     Reset,
+    /// `+` `=`: twice the increments per frame.
     Faster,
+    /// `-`: half the increments per frame.
     Slower,
+    /// `e`: pause, or not, on events matching the filter.
     PauseOnEvents,
+    /// `?`: show or hide the help.
     Help,
+    /// Esc: close the help or the log, leave the sweep view, or go live.
     Back,
+    /// `q`: quit (asks first if a sweep map would be lost).
     Quit,
+    /// Ctrl-C: quit with status 130 (asks first like `q`).
     Interrupt,
+    /// Ctrl-Z: give the terminal back to the shell until `fg`.
     Suspend,
+    /// `v` Tab: switch between the stepping and the sweep view.
     ToggleView,
+    /// Sweep: the previous column (`lambda` or `phi`).
     SweepPrevX,
+    /// Sweep: the next column (`lambda` or `phi`).
     SweepNextX,
+    /// Sweep: ten columns back (left).
     SweepPageDown,
+    /// Sweep: ten columns on (right).
     SweepPageUp,
+    /// Sweep: the first column.
     SweepFirst,
+    /// Sweep: the last column.
     SweepLast,
+    /// Sweep: the previous run (initial transient) at this column.
     SweepPrevRun,
+    /// Sweep: the next run (initial transient) at this column.
     SweepNextRun,
+    /// Sweep `w`: draw `W` on a log or a linear axis.
     SweepLogW,
+    /// Sweep `s`: save the map as `sweep-<preset>.csv`, as `sweep` writes it.
     SweepSave,
+    /// Sweep Enter: open the run under the cursor in the stepping view.
     OpenRun,
+    /// Sweep `r`: run the sweep again (asks first if the map would be lost).
     RestartSweep,
 }
 
@@ -71,8 +132,11 @@ pub enum Action {
 /// view.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mode {
+    /// The stepping view's keys.
     Stepping,
+    /// The sweep view's keys.
     Sweep,
+    /// The event log's keys, over the stepping view.
     Log,
 }
 
@@ -82,13 +146,18 @@ pub const MODES: [Mode; 3] = [Mode::Stepping, Mode::Log, Mode::Sweep];
 /// The modes a binding works in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Scope {
+    /// Every mode.
     All,
+    /// The stepping view only.
     Stepping,
+    /// The sweep view only.
     Sweep,
+    /// The event log only.
     Log,
 }
 
 impl Scope {
+    /// Whether a binding of this scope works in `mode`.
     pub fn includes(self, mode: Mode) -> bool {
         matches!(
             (self, mode),
@@ -104,8 +173,11 @@ impl Scope {
 /// ignore Shift because terminals disagree on whether `?` or `+` carry it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Key {
+    /// The key code pressed.
     pub code: KeyCode,
+    /// Shift must be held (ignored for character keys).
     pub shift: bool,
+    /// Ctrl must be held.
     pub ctrl: bool,
 }
 
@@ -141,10 +213,15 @@ const fn ctrl(c: char) -> Key {
 /// and what the help says about it.
 #[derive(Debug, Clone, Copy)]
 pub struct Binding {
+    /// Keys that trigger the action (any one of them).
     pub keys: &'static [Key],
+    /// How the help names the keys.
     pub label: &'static str,
+    /// What the keys do.
     pub action: Action,
+    /// What the help says about it (at most 30 characters).
     pub help: &'static str,
+    /// The modes it works in.
     pub scope: Scope,
 }
 

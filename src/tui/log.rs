@@ -15,12 +15,17 @@ use crate::stepping::{slip_zones, Event, ZoneChange};
 /// The kinds of events the log lists and the filters choose from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum EventKind {
+    /// Nodes that slipped stuck again (their slip rate reached zero).
     AdvancingStick,
     /// Stick nodes reached `|q| = f p` and began to slip.
     SlipEntry,
+    /// A slip zone appeared (one with no predecessor).
     Appeared,
+    /// A slip zone split into two or more.
     Split,
+    /// Two or more slip zones merged into one.
     Merged,
+    /// A slip zone vanished (one with no successor).
     Vanished,
     /// The transient ended or a cycle completed.
     Cycle,
@@ -29,6 +34,7 @@ pub enum EventKind {
 }
 
 impl EventKind {
+    /// The kind in words, as the log and the filter's description show it.
     pub fn name(self) -> &'static str {
         match self {
             EventKind::AdvancingStick => "advancing stick",
@@ -78,6 +84,8 @@ pub const KINDS: [Option<EventKind>; 9] = [
 pub const MIN_NODES: [usize; 8] = [1, 2, 4, 8, 16, 32, 64, 128];
 
 impl Filter {
+    /// Whether the entry is of the kind looked for (advancing stick of at
+    /// least [`Filter::min_nodes`] nodes).
     pub fn matches(&self, e: &LogEntry) -> bool {
         let kind_ok = match self.kind {
             None => !matches!(
@@ -89,6 +97,7 @@ impl Filter {
         kind_ok && (e.kind != EventKind::AdvancingStick || e.nodes >= self.min_nodes)
     }
 
+    /// The filter in words, for notices and the log's title.
     pub fn describe(&self) -> String {
         let kind = self.kind.map_or("any event", EventKind::name);
         if self.min_nodes > 1 && matches!(self.kind, None | Some(EventKind::AdvancingStick)) {
@@ -102,6 +111,7 @@ impl Filter {
 /// One line of the log.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LogEntry {
+    /// What kind of event this is.
     pub kind: EventKind,
     /// Increment number from the start of the run (0-based).
     pub increment: usize,
@@ -120,6 +130,7 @@ pub struct LogEntry {
 }
 
 impl LogEntry {
+    /// Bytes the entry holds, as the history budget counts them.
     pub fn bytes(&self) -> usize {
         std::mem::size_of::<Self>() + self.text.len()
     }
@@ -130,9 +141,13 @@ impl LogEntry {
 /// do, the increment's end stands for them.
 #[derive(Debug, Clone, Copy)]
 pub struct At {
+    /// Increment number from the start of the run (0-based).
     pub increment: usize,
+    /// Cycle of the increment, 0 in the transient.
     pub cycle: usize,
+    /// `omega t` at the end of the increment, `None` in the transient.
     pub time: Option<f64>,
+    /// The load point `(x, y)` at the end of the increment.
     pub load: (f64, f64),
 }
 

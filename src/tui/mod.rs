@@ -52,8 +52,10 @@ pub fn default_params() -> CaseParams {
 /// one: the screen says so and waits for a resize.
 #[derive(Debug, thiserror::Error)]
 pub enum TuiError {
+    /// Stdin or stdout is not a TTY.
     #[error("the explorer needs a terminal: stdin and stdout must both be a TTY (use `shakedown run` for plain output)")]
     NotATerminal,
+    /// Reading from or drawing to the terminal failed.
     #[error("terminal: {0}")]
     Io(#[from] io::Error),
 }

@@ -24,7 +24,9 @@ use crate::model::ParamError;
 pub struct SweepSource {
     /// Shown in the title: the preset's name.
     pub name: String,
+    /// The preset's lists of `lambda`, `phi` and initial paths, over the case's model.
     pub spec: SweepSpec,
+    /// The horizontal axis of the map: `lambda` or `phi`.
     pub axis: Axis,
 }
 
@@ -46,8 +48,11 @@ impl SweepSource {
 pub enum LimitState {
     /// Not a single vertical line: a `phi` axis, or several phases.
     NotShown,
+    /// The linear programme is running on its own thread.
     Computing,
+    /// `lambda_2` and its optimal slip.
     Known(Limit),
+    /// The programme failed, with the reason.
     Failed(String),
 }
 
@@ -95,6 +100,8 @@ pub struct Sweep {
 }
 
 impl Sweep {
+    /// The sweep of `source`, not started, with an empty map and the cursor
+    /// at the first run of the first column.
     pub fn new(source: SweepSource) -> Self {
         let jobs = source.spec.jobs();
         let x_of = |j: &Job| match source.axis {
@@ -259,18 +266,23 @@ impl Sweep {
 
     // ----- what the panel reads -------------------------------------------
 
+    /// What the view runs.
     pub fn source(&self) -> &SweepSource {
         &self.source
     }
+    /// The map's horizontal axis.
     pub fn axis(&self) -> Axis {
         self.source.axis
     }
+    /// Number of runs in the sweep.
     pub fn total(&self) -> usize {
         self.jobs.len()
     }
+    /// Number of runs finished so far.
     pub fn done(&self) -> usize {
         self.done
     }
+    /// Whether the sweep has been started (the view opened at least once).
     pub fn started(&self) -> bool {
         self.started
     }
@@ -278,15 +290,19 @@ impl Sweep {
     pub fn is_running(&self) -> bool {
         self.worker.is_some() && !self.runs_finished
     }
+    /// `lambda_2` for the map, or why there is none yet.
     pub fn limit(&self) -> &LimitState {
         &self.limit
     }
+    /// The distinct values of the horizontal axis, increasing: the columns.
     pub fn xs(&self) -> &[f64] {
         &self.xs
     }
+    /// The finished runs, in job order.
     pub fn rows(&self) -> impl Iterator<Item = &Row> {
         self.rows.iter().flatten()
     }
+    /// Every run of the sweep, in job order.
     pub fn jobs(&self) -> &[Job] {
         &self.jobs
     }
@@ -297,6 +313,7 @@ impl Sweep {
             Axis::Phi => job.phase,
         }
     }
+    /// The cursor: (column index into [`Sweep::xs`], run index within it).
     pub fn cursor(&self) -> (usize, usize) {
         self.cursor
     }

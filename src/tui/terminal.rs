@@ -14,6 +14,7 @@ use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM, SIGTSTP};
 
 use super::TuiError;
 
+/// The ratatui terminal the explorer draws on: crossterm over stdout.
 pub type Term = Terminal<CrosstermBackend<Stdout>>;
 
 /// Both ends must be a terminal: keys come from stdin, escape codes go to
@@ -83,6 +84,7 @@ fn install_panic_hook() {
 /// What a signal asks of the loop.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Signal {
+    /// No signal is pending.
     None,
     /// SIGINT: quit with status 130.
     Interrupt,

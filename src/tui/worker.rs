@@ -21,9 +21,13 @@ use crate::stepping::{self, Control, Event, Phase, Status, StepReport, Stepper};
 /// How far the worker should go.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Goal {
+    /// Exactly this many increments (fewer if the run stops).
     Increments(usize),
+    /// Until the transient path is done.
     TransientEnd,
+    /// Until the cycle in progress is complete.
     CycleEnd,
+    /// Until the run is classified as a steady state.
     Steady,
     /// Run on at this many increments per frame until told otherwise.
     Paced(usize),
@@ -33,9 +37,19 @@ pub enum Goal {
 #[derive(Debug)]
 pub enum Command {
     /// A new run on `case`; records of older generations are stale.
-    Restart { generation: u64, case: Box<Case> },
+    Restart {
+        /// Number of the new run; replies carry it so stale ones are ignored.
+        generation: u64,
+        /// The case to run.
+        case: Box<Case>,
+    },
     /// Step towards `goal`; `Stopped` answers with the same `seq`.
-    Go { seq: u64, goal: Goal },
+    Go {
+        /// Number of this request; the [`Reply::Stopped`] that ends it carries it.
+        seq: u64,
+        /// How far to step.
+        goal: Goal,
+    },
     /// Stop stepping (the drive in progress, if any, answers `Stopped`).
     Pause,
     /// Which events stop a drive (`None`: none do).
@@ -66,14 +80,22 @@ pub enum Stopped {
 pub enum Reply {
     /// A run began: its transient and friction coefficient.
     Started {
+        /// The generation of the run (see [`Command::Restart`]).
         generation: u64,
+        /// The segments of the initial transient path.
         transient: Vec<Segment>,
+        /// The friction coefficient `f` of the case.
         friction: f64,
     },
+    /// One increment of the run, with the generation it belongs to.
     Record(Box<Record>),
+    /// A drive ended, for whatever reason.
     Stopped {
+        /// The generation of the run it belongs to.
         generation: u64,
+        /// The `seq` of the [`Command::Go`] it answers.
         seq: u64,
+        /// Why it stopped.
         why: Stopped,
     },
 }
@@ -92,6 +114,8 @@ pub struct Worker {
 }
 
 impl Worker {
+    /// Start the worker thread on `operators` (shared with the UI), idle
+    /// until the first [`Command::Restart`].
     pub fn spawn(operators: Arc<Operators>) -> Self {
         let (tx, commands) = mpsc::channel();
         let (replies, rx) = mpsc::sync_channel(CHANNEL);
@@ -106,12 +130,14 @@ impl Worker {
         }
     }
 
+    /// Send `command`; ignored if the thread is gone.
     pub fn send(&self, command: Command) {
         if let Some(tx) = &self.tx {
             let _ = tx.send(command);
         }
     }
 
+    /// The next reply if one is waiting, without blocking.
     pub fn try_recv(&self) -> Option<Reply> {
         self.rx.try_recv().ok()
     }

@@ -129,8 +129,8 @@ fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Them
                 }
             }
             ctx.print(
-                cycle.center.x(),
-                cycle.center.y(),
+                cycle.center().x(),
+                cycle.center().y(),
                 Span::styled("A", label_style),
             );
             ctx.print(0.0, 0.0, Span::styled("O", label_style));

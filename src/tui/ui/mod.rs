@@ -23,6 +23,7 @@ use super::app::{App, View};
 
 /// The smallest terminal the layout is made for.
 pub const MIN_WIDTH: u16 = 80;
+/// The smallest terminal height the layout is made for (see [`MIN_WIDTH`]).
 pub const MIN_HEIGHT: u16 = 24;
 
 /// Draw the whole screen.
@@ -115,11 +116,17 @@ pub fn asciify(buf: &mut Buffer) {
 /// Where each panel goes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Areas {
+    /// The load plane with the cycle and the load point, top left.
     pub load_plane: Rect,
+    /// The slip map (node against increment), top right.
     pub slip_map: Rect,
+    /// The pressure and shear profiles, bottom left.
     pub tractions: Rect,
+    /// The slip profile `g` minus its mean, bottom middle.
     pub slip: Rect,
+    /// The dissipation `W` per cycle, bottom right.
     pub dissipation: Rect,
+    /// The three status lines at the foot of the screen.
     pub status: Rect,
 }
 
@@ -188,6 +195,7 @@ pub struct Theme {
 }
 
 impl Theme {
+    /// Colours (or none, when `color` is false), drawing Unicode.
     pub fn new(color: bool) -> Self {
         Self {
             color,
@@ -200,6 +208,7 @@ impl Theme {
         Self { ascii, ..self }
     }
 
+    /// Whether drawing is ASCII only.
     pub fn ascii(&self) -> bool {
         self.ascii
     }
@@ -231,6 +240,7 @@ impl Theme {
         }
     }
 
+    /// A style with foreground `c`, or the plain style when colour is off.
     pub fn fg(&self, c: Color) -> Style {
         if self.color {
             Style::default().fg(c)
@@ -239,12 +249,15 @@ impl Theme {
         }
     }
 
+    /// Forward slip (`dh > 0`).
     pub fn forward(&self) -> Style {
         self.fg(Color::LightRed)
     }
+    /// Backward slip (`dh < 0`).
     pub fn backward(&self) -> Style {
         self.fg(Color::LightBlue)
     }
+    /// Stick.
     pub fn stick(&self) -> Style {
         self.fg(Color::DarkGray)
     }
@@ -258,21 +271,27 @@ impl Theme {
     pub fn stuck_mark(&self) -> Style {
         self.fg(Color::Magenta)
     }
+    /// Panel titles: bold, in colour or not.
     pub fn title(&self) -> Style {
         Style::default().add_modifier(Modifier::BOLD)
     }
+    /// Secondary text: borders, axes, hints.
     pub fn dim(&self) -> Style {
         self.fg(Color::DarkGray)
     }
+    /// Labels of values and axes.
     pub fn label(&self) -> Style {
         self.fg(Color::Gray)
     }
+    /// Values: bold.
     pub fn value(&self) -> Style {
         self.fg(Color::White).add_modifier(Modifier::BOLD)
     }
+    /// Warnings that want attention: bold.
     pub fn alert(&self) -> Style {
         self.fg(Color::Yellow).add_modifier(Modifier::BOLD)
     }
+    /// Errors (a failed solver, a missing sweep): bold.
     pub fn error(&self) -> Style {
         self.fg(Color::LightRed).add_modifier(Modifier::BOLD)
     }
@@ -357,6 +376,7 @@ pub fn theta_axis<'a>(theme: &Theme) -> ratatui::widgets::Axis<'a> {
         .style(theme.dim())
 }
 
+/// Labels of the `theta` axis with the Greek `π`: `-π`, `0`, `π`.
 pub fn theta_labels<'a>() -> Vec<Line<'a>> {
     vec![Line::from("-π"), Line::from("0"), Line::from("π")]
 }

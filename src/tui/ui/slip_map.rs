@@ -39,15 +39,27 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
     let steps = app.case().disc.steps_per_cycle();
     // Words when there is room, the bare glyphs when there is not.
     let wide = area.width >= 72;
+    let wider = area.width >= 100;
     let word = |long: &'static str, short: &'static str| {
         Span::styled(if wide { long } else { short }, theme.label())
+    };
+    // The paper's sense of forward (model.md section 1.3), when it fits.
+    let sense = |longest: &'static str, long: &'static str, short: &'static str| {
+        let text = if wider {
+            longest
+        } else if wide {
+            long
+        } else {
+            short
+        };
+        Span::styled(text, theme.label())
     };
     let legend = Line::from(vec![
         Span::raw(" "),
         Span::styled(FORWARD_GLYPH, theme.forward()),
-        word(" forward ", " fwd "),
+        sense(" forward (dh>0) ", " forward ", " fwd "),
         Span::styled(BACKWARD_GLYPH, theme.backward()),
-        word(" backward ", " bwd "),
+        sense(" backward (dh<0) ", " backward ", " bwd "),
         Span::styled(STICK_GLYPH, theme.stick()),
         word(" stick ", " stick "),
         Span::styled(STUCK_GLYPH, theme.stuck_mark()),

@@ -38,7 +38,7 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
         label("  phi = "),
         value(format_phase(app.phase())),
         label("  psi = "),
-        value(format!("{}", case.cycle.slope)),
+        value(format!("{}", case.cycle.slope())),
         label("  path "),
         value(path.name()),
         label(format!(" ({}/{})", app.path_index() + 1, app.paths().len()).as_str()),

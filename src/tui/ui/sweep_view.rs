@@ -11,9 +11,9 @@ use ratatui::widgets::Paragraph;
 use ratatui::Frame;
 
 use super::{nice_ceiling, tick, Theme};
-use crate::analysis::steady::SteadyState;
 use crate::analysis::sweep::Axis;
 use crate::analysis::sweep::{Row, RowState};
+use crate::stepping::steady::SteadyState;
 use crate::tui::app::{format_load_factor, format_phase, format_sci, App};
 use crate::tui::sweep::{LimitState, Sweep};
 

@@ -1,7 +1,7 @@
 //! `shakedown figure`: the files it writes are well formed, and the paper's
 //! qualitative statements hold in reduced versions of the figures.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -201,7 +201,7 @@ fn fig5_point_b_slips_back_and_forth() {
     let map = map_of(7.0, 0.0);
     assert_eq!(
         map.summary.state,
-        shakedown::analysis::steady::SteadyState::RatchettingNonMonotonic
+        shakedown::stepping::steady::SteadyState::RatchettingNonMonotonic
     );
     let dirs: Vec<SlipDirection> = map.rows.iter().flat_map(|r| r.directions.clone()).collect();
     assert!(dirs.contains(&SlipDirection::Forward) && dirs.contains(&SlipDirection::Backward));
@@ -212,7 +212,7 @@ fn fig7_point_c_one_zone_splits_travels_and_merges() {
     let map = map_of(5.1, 0.5 * PI);
     assert_eq!(
         map.summary.state,
-        shakedown::analysis::steady::SteadyState::RatchettingMonotonic
+        shakedown::stepping::steady::SteadyState::RatchettingMonotonic
     );
     let n = map.nodes;
     let zones: Vec<Vec<shakedown::stepping::SlipZone>> =
@@ -323,10 +323,12 @@ fn figure_resume_finishes_an_interrupted_csv() {
     .concat();
     run_ok(&args);
     let full = std::fs::read_to_string(dir.join("fig9.csv")).unwrap();
-    // Cut the file after three rows and half of the fourth.
-    let mut cut: Vec<&str> = full.split_inclusive('\n').take(5).collect();
-    let half = &cut[4][..cut[4].len() / 2];
-    cut[4] = half;
+    // Cut the file after three rows and half of the fourth (the `#`
+    // metadata lines and the column header come first).
+    let head = full.lines().take_while(|l| l.starts_with('#')).count() + 1;
+    let mut cut: Vec<&str> = full.split_inclusive('\n').take(head + 4).collect();
+    let half = &cut[head + 3][..cut[head + 3].len() / 2];
+    cut[head + 3] = half;
     std::fs::write(dir.join("fig9.csv"), cut.concat()).unwrap();
     let out = shakedown(&[&args[..], &["--resume"]].concat());
     assert!(out.status.success(), "{}", stderr(&out));
@@ -388,7 +390,9 @@ fn limit_prints_lambda_2_against_phi() {
         "--out",
         file.to_str().unwrap(),
     ]);
-    let lines: Vec<&str> = out.lines().collect();
+    // The model and grid come first as `#` lines, then the table.
+    assert!(out.contains("# friction = 0.1"), "{out}");
+    let lines: Vec<&str> = out.lines().filter(|l| !l.starts_with('#')).collect();
     assert_eq!(lines[0], "phi,lambda_2,lower_bound");
     assert_eq!(lines.len(), 4, "{out}");
     assert_eq!(std::fs::read_to_string(&file).unwrap(), out);

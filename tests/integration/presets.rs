@@ -1,7 +1,7 @@
 //! The presets: every built-in one parses and runs a reduced version, the
 //! CLI lists and accepts them, and bad ones are reported with file and line.
 
-mod common;
+use crate::common;
 
 use common::{read_csv, scratch, shakedown, stderr, stdout};
 use shakedown::io::preset::{self, FigureKind, PresetError};

@@ -13,7 +13,7 @@ use shakedown::tui::keys::{bindings_for, event_for, Action, Mode, BINDINGS, MODE
 use shakedown::tui::log::EventKind;
 use shakedown::tui::{default_params, ui};
 
-mod common;
+use crate::common;
 
 /// The default case, with a tiny sweep for the sweep view so that keys
 /// which start it do not start a full preset's.
@@ -732,7 +732,7 @@ fn events_are_logged_and_filtered_by_size() {
     terminal.draw(|f| ui::draw(f, &app)).unwrap();
     let text = terminal.backend().to_string();
     assert!(text.contains("Event log"), "{text}");
-    assert!(text.contains("sub-increments)"), "wrapped, not cut: {text}");
+    assert!(text.contains("sub-segments)"), "wrapped, not cut: {text}");
 }
 
 #[test]

@@ -165,8 +165,8 @@ pub fn tiny_sweep_source() -> shakedown::tui::sweep::SweepSource {
 pub fn fake_rows(
     source: &shakedown::tui::sweep::SweepSource,
 ) -> Vec<shakedown::analysis::sweep::Row> {
-    use shakedown::analysis::steady::{Approach, SteadyState};
     use shakedown::analysis::sweep::{Row, RunError};
+    use shakedown::stepping::steady::{Approach, SteadyState};
     use shakedown::stepping::{StepError, Summary};
     let jobs = source.spec.jobs();
     let n = jobs.len();
@@ -182,7 +182,7 @@ pub fn fake_rows(
             } else {
                 Ok(Summary {
                     state,
-                    approach: Approach::Settled,
+                    approach: Approach::Converged,
                     dissipation: if state == SteadyState::Shakedown {
                         0.0
                     } else {
@@ -193,6 +193,7 @@ pub fn fake_rows(
                     terminal_load: None,
                     terminal_time: None,
                     terminal_theta: None,
+                    trend: None,
                 })
             };
             Row {

@@ -17,7 +17,7 @@ use shakedown::tui::app::{
 use shakedown::tui::keys::{bindings_for, Action, Mode, MODES};
 use shakedown::tui::log::{At, EventKind, LogEntry};
 
-mod common;
+use crate::common;
 use shakedown::tui::{default_params, ui};
 
 /// Two cycles and a bit of the synthetic state: the transient and a whole

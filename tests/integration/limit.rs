@@ -2,17 +2,17 @@
 //! simulation: the optimal slip shakes down just below it and slips just
 //! above it, and no transient shakes down above it.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 
 use common::{read_csv, scratch, shakedown, stderr, stdout};
 use shakedown::analysis::case::{Case, CaseParams};
 use shakedown::analysis::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
-use shakedown::analysis::steady::SteadyState;
 use shakedown::analysis::sweep::SweepSpec;
 use shakedown::model::path::Initial;
 use shakedown::model::{Discretisation, LoadPoint, Material};
+use shakedown::stepping::steady::SteadyState;
 use shakedown::stepping::{StepOptions, Summary};
 
 const NODES: usize = 64;

@@ -1,0 +1,19 @@
+//! Every integration test in one binary: one link, one run (as bottom
+//! keeps `tests/integration/main.rs`). Each file is a module.
+
+mod bad_input;
+mod batch_cli;
+mod common;
+mod engine;
+mod figures;
+mod kernels;
+mod limit;
+mod numerical_failure;
+mod parser_props;
+mod physics;
+mod presets;
+mod solver_props;
+mod sweep_determinism;
+mod tui_keys;
+mod tui_snapshots;
+mod verdicts;

@@ -1,0 +1,202 @@
+//! Steady-state verdicts near the boundaries between states
+//! (`docs/model.md` section 6.3): a verdict is proven (a cycle without slip), or
+//! converged by the 0.01 % rule, or the run is `not-converged`. Checked
+//! against runs taken much further: a convergence tolerance of `1e-8` and a
+//! cap of 2000 cycles.
+
+use std::f64::consts::PI;
+
+use rayon::prelude::*;
+use shakedown::stepping::steady::assess;
+use shakedown::{
+    Approach, Convergence, Cycle, CycleRecord, Discretisation, Initial, LoadPoint, Material,
+    SteadyState, StepOptions, Stepper, Summary,
+};
+
+/// Runs taken far beyond the default verdict.
+const REFERENCE: Convergence = Convergence {
+    tolerance: 1e-8,
+    max_cycles: 2000,
+};
+
+fn stepper(load_factor: f64, phase: f64, initial: &str, convergence: Convergence) -> Stepper {
+    Stepper::new(
+        Material::paper(),
+        Discretisation::default(),
+        &Initial::parse(initial).unwrap(),
+        Cycle::paper(load_factor, phase).unwrap(),
+        StepOptions {
+            convergence,
+            ..StepOptions::default()
+        },
+    )
+}
+
+/// A run at the defaults.
+fn run(load_factor: f64, phase: f64, initial: &str) -> Summary {
+    stepper(load_factor, phase, initial, Convergence::default())
+        .run_to_steady()
+        .unwrap()
+}
+
+/// The verdict the defaults give on a history: the first cycle at which
+/// `assess` has one. (A run's increments do not depend on the convergence
+/// criteria, so this is the default run's verdict.)
+fn default_verdict(history: &[CycleRecord]) -> Option<(usize, SteadyState, Approach)> {
+    let defaults = Convergence::default();
+    (1..=history.len()).find_map(|k| assess(&history[..k], &defaults).map(|(s, a)| (k, s, a)))
+}
+
+#[test]
+fn fig6_ratchetting_that_looked_like_shakedown() {
+    // W falls to 1.1e-5 in 33 cycles, then levels off at 7.49e-6 with a
+    // rotation of -2.6e-5 a cycle (the independent run-out).
+    let s = run(5.1, 0.375 * PI, "-5,5");
+    assert_eq!(s.state, SteadyState::RatchettingMonotonic, "{s:?}");
+    assert_eq!(s.approach, Approach::Converged);
+    assert!((s.dissipation / 7.49e-6 - 1.0).abs() < 2e-3, "{s:?}");
+    assert!((s.rotation_per_cycle / -2.6e-5 - 1.0).abs() < 2e-2, "{s:?}");
+}
+
+#[test]
+fn fig3_cyclic_slip_at_a_tiny_level() {
+    // W halves each cycle for ten cycles, then levels off at 6.8e-9.
+    let s = run(4.74, 0.0, "3,-7");
+    assert_eq!(s.state, SteadyState::CyclicSlip, "{s:?}");
+    assert_eq!(s.approach, Approach::Converged);
+    assert!((s.dissipation / 6.8136e-9 - 1.0).abs() < 1e-3, "{s:?}");
+}
+
+#[test]
+fn fig8_sharp_transition_at_half_pi() {
+    // Shakedown just below lambda = 5 (reached asymptotically: the cycle
+    // without slip comes after some hundreds of cycles), monotonic
+    // ratchetting just above.
+    let below = run(5.01, PI / 2.0, "OA");
+    assert_eq!(below.state, SteadyState::Shakedown, "{below:?}");
+    assert_eq!(below.approach, Approach::NoSlipCycle);
+    assert_eq!(below.dissipation, 0.0);
+    let above = run(5.02, PI / 2.0, "OA");
+    assert_eq!(above.state, SteadyState::RatchettingMonotonic, "{above:?}");
+    assert!(above.dissipation > 1e-6 && above.rotation_per_cycle.abs() > 1e-6);
+}
+
+#[test]
+fn the_cap_is_not_converged_with_a_trend() {
+    // An asymptotic shakedown stopped long before its cycle without slip.
+    let s = stepper(
+        5.1,
+        31.0 * PI / 48.0,
+        "5,7",
+        Convergence {
+            max_cycles: 60,
+            ..Convergence::default()
+        },
+    )
+    .run_to_steady()
+    .unwrap();
+    assert_eq!(s.state, SteadyState::NotConverged, "{s:?}");
+    assert_eq!(s.approach, Approach::Cap);
+    assert_eq!(s.cycles, 60);
+    assert!(s.dissipation > 0.0);
+    let t = s.trend.expect("a trend at the cap");
+    assert_eq!(t.last, s.dissipation);
+    assert!(t.exponent > 1.0, "{t:?}");
+    // A power-law decay: the limit (0) lies within the stated uncertainty.
+    assert!(t.limit - t.uncertainty <= 0.0, "{t:?}");
+}
+
+/// Runs of the `fig6` sweep (`lambda = 5.1`) next to its boundaries:
+/// cyclic slip | shakedown at `phi = 11-12 pi/48`, ratchetting | shakedown at
+/// `30-31 pi/48`, shakedown | cyclic slip at `35 pi/48` (where some
+/// transients shake down and others do not).
+const BOUNDARY_SAMPLE: [(f64, &str); 8] = [
+    (11.0, "5,-7"),
+    (12.0, "OA"),
+    (18.0, "-5,5"),
+    (30.0, "-7,-7"),
+    (31.0, "5,7"),
+    (35.0, "OA"),
+    (35.0, "3,7"),
+    (35.0, "5,-7"),
+];
+
+#[test]
+fn fig6_boundary_runs_agree_with_runs_taken_to_2000_cycles() {
+    let results: Vec<_> = BOUNDARY_SAMPLE
+        .par_iter()
+        .map(|&(k, initial)| {
+            let mut s = stepper(5.1, k * PI / 48.0, initial, REFERENCE);
+            let reference = s.run_to_steady().unwrap();
+            let verdict = default_verdict(s.history());
+            (k, initial, reference, verdict, s.history().to_vec())
+        })
+        .collect();
+    let mut report = Vec::new();
+    for (k, initial, reference, verdict, history) in &results {
+        let (cycles, state, approach) = verdict.expect("the defaults end before the reference");
+        report.push(format!(
+            "phi = {k} pi/48, {initial}: default {state} ({approach}, {cycles} cycles), reference {} ({}, {} cycles)",
+            reference.state, reference.approach, reference.cycles
+        ));
+        assert_ne!(
+            reference.state,
+            SteadyState::NotConverged,
+            "the reference runs reach a verdict: {report:?}"
+        );
+        assert_eq!(state, reference.state, "{report:#?}");
+        if state != SteadyState::Shakedown {
+            let w = history[cycles - 1].dissipation;
+            assert!(
+                (w / reference.dissipation - 1.0).abs() < 1e-2,
+                "W {w} vs {}: {report:#?}",
+                reference.dissipation
+            );
+        }
+    }
+    eprintln!("{report:#?}");
+}
+
+#[test]
+fn fig6_ratchetting_forgets_the_transient() {
+    // Wherever fig6 ratchets, all 25 transients ratchet, with one W.
+    use shakedown::analysis::sweep::{SweepLists, SweepSpec};
+    let spec = SweepSpec::new(
+        Material::paper(),
+        Discretisation::default(),
+        StepOptions::default(),
+        LoadPoint::new(PI, 0.75 * PI),
+        0.625,
+        SweepLists {
+            load_factors: vec![5.1],
+            phases: [24.0, 27.0, 30.0].map(|k| k * PI / 48.0).to_vec(),
+            initials: Initial::paper_set(),
+        },
+    )
+    .unwrap();
+    let rows = spec.run(
+        &spec.jobs(),
+        &|_| {},
+        &std::sync::atomic::AtomicBool::new(false),
+    );
+    for column in rows.chunks(25) {
+        let phase = column[0].job.phase;
+        let w: Vec<f64> = column
+            .iter()
+            .map(|r| {
+                let s = r.outcome.as_ref().unwrap();
+                assert_eq!(
+                    s.state,
+                    SteadyState::RatchettingMonotonic,
+                    "phi = {phase}, {}",
+                    r.initial
+                );
+                s.dissipation
+            })
+            .collect();
+        let (lo, hi) = w
+            .iter()
+            .fold((f64::MAX, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
+        assert!(hi <= lo * (1.0 + 1e-3), "phi = {phase}: W {lo} .. {hi}");
+    }
+}
