@@ -245,10 +245,17 @@ pub(crate) struct Engine {
     /// The slip set of the cached responses, and as `(node, sign)`.
     dirs: Vec<SlipDirection>,
     set: Vec<(usize, f64)>,
-    /// Slip rates on the set per unit `x` and `y` (zero elsewhere).
+    /// The two load directions of the responses: `u1` the direction of the
+    /// segment on which the set was decided, `u2` its perpendicular (the
+    /// fields named `..x` / `..y` below hold the responses to `u1` / `u2`).
+    /// The response to `u2` is computed only when the set outlives the
+    /// segment's direction (`have2`).
+    u1: (f64, f64),
+    have2: bool,
+    /// Slip rates on the set per unit `u1` and `u2` (zero elsewhere).
     gx: Vec<f64>,
     gy: Vec<f64>,
-    /// Residual pressure `H g'` and shear `-|D| g'` per unit `x` and `y`.
+    /// Residual pressure `H g'` and shear `-|D| g'` per unit `u1` and `u2`.
     hpx: Vec<f64>,
     hpy: Vec<f64>,
     hqx: Vec<f64>,
@@ -259,7 +266,7 @@ pub(crate) struct Engine {
     eqx: Vec<f64>,
     eqy: Vec<f64>,
     elastic_ready: bool,
-    /// Total pressure and shear (elastic + residual) per unit `x` and `y`.
+    /// Total pressure and shear (elastic + residual) per unit `u1` and `u2`.
     tpx: Vec<f64>,
     tpy: Vec<f64>,
     tqx: Vec<f64>,
@@ -290,12 +297,29 @@ pub(crate) struct Engine {
 }
 
 impl Engine {
-    fn totals(&mut self) {
-        for j in 0..self.tpx.len() {
-            self.tpx[j] = self.epx[j] + self.hpx[j];
-            self.tpy[j] = self.epy[j] + self.hpy[j];
-            self.tqx[j] = self.eqx[j] + self.hqx[j];
-            self.tqy[j] = self.eqy[j] + self.hqy[j];
+    /// The load direction `u1` (axis 0) or `u2` (axis 1).
+    fn axis(&self, axis: usize) -> (f64, f64) {
+        let (ux, uy) = self.u1;
+        if axis == 0 {
+            (ux, uy)
+        } else {
+            (-uy, ux)
+        }
+    }
+
+    /// Total responses to the direction of `axis`.
+    fn totals(&mut self, axis: usize) {
+        let (ux, uy) = self.axis(axis);
+        let (tp, tq, hp, hq) = if axis == 0 {
+            (&mut self.tpx, &mut self.tqx, &self.hpx, &self.hqx)
+        } else {
+            (&mut self.tpy, &mut self.tqy, &self.hpy, &self.hqy)
+        };
+        for (((t, h), ex), ey) in tp.iter_mut().zip(hp).zip(&self.epx).zip(&self.epy) {
+            *t = (ux * ex + uy * ey) + h;
+        }
+        for (((t, h), ex), ey) in tq.iter_mut().zip(hq).zip(&self.eqx).zip(&self.eqy) {
+            *t = (ux * ex + uy * ey) + h;
         }
     }
 
@@ -303,6 +327,8 @@ impl Engine {
         let z = || vec![0.0; n];
         Self {
             valid: false,
+            u1: (1.0, 0.0),
+            have2: false,
             dirs: vec![SlipDirection::Stick; n],
             set: Vec::with_capacity(n),
             gx: z(),
@@ -403,13 +429,19 @@ impl Contact {
         let mut events = 0;
         loop {
             if !w.engine.valid {
-                self.responses(w)?;
+                self.responses(w, dx, dy)?;
             }
+            let Some((a1, a2)) = self.direction_coefficients(w, dx, dy) else {
+                return Err(ContactError::NotSettled {
+                    load: self.load,
+                    iterations: 1,
+                });
+            };
             if !w.engine.set.is_empty() {
-                self.combine(w, dx, dy);
+                self.combine(w, a1, a2);
             }
             let remaining = 1.0 - s;
-            let (stop, t, need_rates) = self.scan(w, dx, dy, remaining);
+            let (stop, t, need_rates) = self.scan(w, a1, a2, dy, remaining);
             if need_rates {
                 // A settled rate problem leaves nothing to decide here: a
                 // second request at the same point means it did not hold.
@@ -444,7 +476,7 @@ impl Contact {
                 Stop::Gross => on_torque_limit(from.lerp(target, s_new), dy),
                 _ => from.lerp(target, s_new),
             };
-            self.move_along(w, t, dx, dy, load);
+            self.move_along(w, t, a1, a2, load);
             s = s_new;
             self.increment.reached = s;
             match stop {
@@ -481,10 +513,11 @@ impl Contact {
         e.elastic_ready = true;
     }
 
-    /// Responses of the slip set `self.directions` to unit `x` and `y`.
-    fn responses(&mut self, w: &mut Workspace) -> Result<(), ContactError> {
+    /// Responses of the slip set `self.directions` to the direction
+    /// `(dx, dy)`.
+    fn responses(&mut self, w: &mut Workspace, dx: f64, dy: f64) -> Result<(), ContactError> {
         w.engine.trial.copy_from_slice(&self.directions);
-        if self.responses_for_trial(w) {
+        if self.responses_for_trial(w, dx, dy) {
             Ok(())
         } else {
             Err(ContactError::NotSettled {
@@ -494,10 +527,11 @@ impl Contact {
         }
     }
 
-    /// Responses of the slip set `w.engine.trial`; false if the reduced
-    /// system gave no finite solution.
-    fn responses_for_trial(&mut self, w: &mut Workspace) -> bool {
-        let f = self.material.friction();
+    /// Responses of the slip set `w.engine.trial` to the load direction
+    /// `(dx, dy)` (made `u1`); false if the reduced system gave no finite
+    /// solution. The response to the perpendicular `u2` waits until a
+    /// segment needs it ([`Self::direction_coefficients`]).
+    fn responses_for_trial(&mut self, w: &mut Workspace, dx: f64, dy: f64) -> bool {
         let e = &mut w.engine;
         e.dirs.copy_from_slice(&e.trial);
         e.set.clear();
@@ -509,61 +543,102 @@ impl Contact {
                 .map(|(j, d)| (j, d.sign())),
         );
         e.valid = false;
+        e.u1 = (dx, dy);
+        e.have2 = false;
         for (j, d) in e.dirs.iter().enumerate() {
             e.stick[j] = !d.is_slipping();
             e.sgn[j] = d.sign();
             e.off[j] = if d.is_slipping() { f64::INFINITY } else { 0.0 };
         }
-        let k = e.set.len();
-        if k == 0 {
+        if e.set.is_empty() {
             for v in [
                 &mut e.gx, &mut e.gy, &mut e.hpx, &mut e.hpy, &mut e.hqx, &mut e.hqy,
             ] {
                 v.fill(0.0);
             }
-            e.totals();
+            e.totals(0);
+            e.totals(1);
+            e.have2 = true;
             e.valid = true;
             return true;
         }
-        for axis in 0..2 {
-            let (ep, eq) = if axis == 0 {
-                (&e.epx, &e.eqx)
-            } else {
-                (&e.epy, &e.eqy)
-            };
-            for (r, &(j, sg)) in e.rhs.iter_mut().zip(&e.set) {
-                *r = -(eq[j] - sg * f * ep[j]);
-            }
-            let before = w.reduced.factorisations;
-            w.reduced
-                .solve(&self.ops, f, &e.set, &e.rhs[..k], &mut e.x[..k]);
-            self.increment.factorisations += w.reduced.factorisations - before;
-            e.full.fill(0.0);
-            for (&v, &(j, _)) in e.x[..k].iter().zip(&e.set) {
-                if !v.is_finite() {
-                    return false;
-                }
-                e.full[j] = v;
-            }
-            self.ops
-                .apply_both(&e.full, &mut e.hbuf, &mut e.dbuf, &mut w.fft);
-            let (g, hp, hq) = if axis == 0 {
-                (&mut e.gx, &mut e.hpx, &mut e.hqx)
-            } else {
-                (&mut e.gy, &mut e.hpy, &mut e.hqy)
-            };
-            g.copy_from_slice(&e.full);
-            hp.copy_from_slice(&e.hbuf);
-            for (o, &d) in hq.iter_mut().zip(&e.dbuf) {
-                *o = -d;
-            }
+        if !self.axis_response(w, 0) {
+            return false;
         }
-        e.totals();
-        e.valid = true;
+        w.engine.valid = true;
         true
     }
 
-    /// Slip rates on the set along the segment direction `(dx, dy)`.
+    /// Solve for the response of the cached set to the direction of `axis`
+    /// (`u1` or `u2`) and its totals; false if not finite.
+    fn axis_response(&mut self, w: &mut Workspace, axis: usize) -> bool {
+        let f = self.material.friction();
+        let e = &mut w.engine;
+        let k = e.set.len();
+        let (ux, uy) = e.axis(axis);
+        for (r, &(j, sg)) in e.rhs.iter_mut().zip(&e.set) {
+            let eq = ux * e.eqx[j] + uy * e.eqy[j];
+            let ep = ux * e.epx[j] + uy * e.epy[j];
+            *r = -(eq - sg * f * ep);
+        }
+        let before = w.reduced.factorisations;
+        w.reduced
+            .solve(&self.ops, f, &e.set, &e.rhs[..k], &mut e.x[..k]);
+        self.increment.factorisations += w.reduced.factorisations - before;
+        e.full.fill(0.0);
+        for (&v, &(j, _)) in e.x[..k].iter().zip(&e.set) {
+            if !v.is_finite() {
+                return false;
+            }
+            e.full[j] = v;
+        }
+        self.ops
+            .apply_both(&e.full, &mut e.hbuf, &mut e.dbuf, &mut w.fft);
+        let (g, hp, hq) = if axis == 0 {
+            (&mut e.gx, &mut e.hpx, &mut e.hqx)
+        } else {
+            (&mut e.gy, &mut e.hpy, &mut e.hqy)
+        };
+        g.copy_from_slice(&e.full);
+        hp.copy_from_slice(&e.hbuf);
+        for (o, &d) in hq.iter_mut().zip(&e.dbuf) {
+            *o = -d;
+        }
+        e.totals(axis);
+        true
+    }
+
+    /// The load direction `(dx, dy)` as `a1 u1 + a2 u2`, computing the
+    /// response to `u2` first if the set needs it; `None` if that response
+    /// is not finite. A direction along `u1` to within round-off (a straight
+    /// load path) leaves `u2` out.
+    fn direction_coefficients(
+        &mut self,
+        w: &mut Workspace,
+        dx: f64,
+        dy: f64,
+    ) -> Option<(f64, f64)> {
+        let (ux, uy) = w.engine.u1;
+        if dx == ux && dy == uy {
+            return Some((1.0, 0.0));
+        }
+        let norm = ux * ux + uy * uy;
+        let a1 = (dx * ux + dy * uy) / norm;
+        let a2 = (dy * ux - dx * uy) / norm;
+        if w.engine.have2 {
+            return Some((a1, a2));
+        }
+        if a2.abs() <= 1e-13 * a1.abs() {
+            return Some((a1, 0.0));
+        }
+        if !self.axis_response(w, 1) {
+            return None;
+        }
+        w.engine.have2 = true;
+        Some((a1, a2))
+    }
+
+    /// Slip rates on the set along the segment direction `dx u1 + dy u2`.
     #[inline]
     fn combine(&self, w: &mut Workspace, dx: f64, dy: f64) {
         let e = &mut w.engine;
@@ -572,7 +647,7 @@ impl Contact {
         }
     }
 
-    /// Rates of `p` and `q` at every node along `(dx, dy)`.
+    /// Rates of `p` and `q` at every node along `dx u1 + dy u2`.
     fn combine_full(&self, w: &mut Workspace, dx: f64, dy: f64) {
         self.combine(w, dx, dy);
         let e = &mut w.engine;
@@ -583,8 +658,16 @@ impl Contact {
     }
 
     /// The first event in `(0, remaining]` of the segment with the cached
-    /// set, or a request to solve the rate problem here first.
-    fn scan(&self, w: &Workspace, dx: f64, dy: f64, remaining: f64) -> (Stop, f64, bool) {
+    /// set, or a request to solve the rate problem here first. The segment
+    /// runs along `dx u1 + dy u2`; `load_dy` is its change of `y`.
+    fn scan(
+        &self,
+        w: &Workspace,
+        dx: f64,
+        dy: f64,
+        load_dy: f64,
+        remaining: f64,
+    ) -> (Stop, f64, bool) {
         let f = self.material.friction();
         let e = &w.engine;
         let mut t_min = remaining;
@@ -610,13 +693,13 @@ impl Contact {
         if lowest < 0.0 {
             self.locate(w, dx, dy, remaining, &mut t_min, &mut stop, &mut need_rates);
         }
-        if dy != 0.0 {
+        if load_dy != 0.0 {
             let y = self.load.y();
-            let limit = 2.0 * PI * dy.signum();
-            let t = if y.abs() >= 2.0 * PI * (1.0 - GROSS_TOL) && y * dy > 0.0 {
+            let limit = 2.0 * PI * load_dy.signum();
+            let t = if y.abs() >= 2.0 * PI * (1.0 - GROSS_TOL) && y * load_dy > 0.0 {
                 0.0
             } else {
-                (limit - y) / dy
+                (limit - y) / load_dy
             };
             if t >= 0.0 && t <= t_min {
                 t_min = t;
@@ -759,11 +842,15 @@ impl Contact {
         let max_iterations = 4 * n + 20;
         let mut settled = false;
         for iteration in 1..=max_iterations {
-            if (!w.engine.valid || w.engine.dirs != w.engine.trial) && !self.responses_for_trial(w)
+            if (!w.engine.valid || w.engine.dirs != w.engine.trial)
+                && !self.responses_for_trial(w, dx, dy)
             {
                 return Err(RateFailure::NotSettled);
             }
-            self.combine_full(w, dx, dy);
+            let Some((a1, a2)) = self.direction_coefficients(w, dx, dy) else {
+                return Err(RateFailure::NotSettled);
+            };
+            self.combine_full(w, a1, a2);
             let e = &mut w.engine;
             let scale = e
                 .set
