@@ -603,11 +603,11 @@ impl App {
             }
             Action::Faster => {
                 self.speed = (self.speed + 1).min(SPEEDS.len() - 1);
-                self.notice = Some(format!("speed: {} increments per frame", self.speed()));
+                self.notice = Some(format!("speed: {} incr/frame", self.speed()));
             }
             Action::Slower => {
                 self.speed = self.speed.saturating_sub(1);
-                self.notice = Some(format!("speed: {} increments per frame", self.speed()));
+                self.notice = Some(format!("speed: {} incr/frame", self.speed()));
             }
             Action::PauseOnEvents => {
                 self.pause_on_events = !self.pause_on_events;

@@ -102,9 +102,17 @@ pub enum Reply {
     },
 }
 
-/// Replies in flight before the worker waits for the UI: enough for a
-/// few frames at top speed, few enough to bound memory.
-const CHANNEL: usize = 4096;
+/// Bytes of replies in flight before the worker waits for the UI: a few
+/// frames at top speed, little enough not to matter beside
+/// `--history-mb` even when the UI is held up (a record holds about 16
+/// bytes a node).
+const CHANNEL_BYTES: usize = 2 << 20;
+
+/// Replies in flight for `nodes` nodes: [`CHANNEL_BYTES`] worth, between
+/// 64 and 4096 of them.
+fn channel_len(nodes: usize) -> usize {
+    (CHANNEL_BYTES / (16 * nodes.max(1))).clamp(64, 4096)
+}
 /// The frame the paced goal keeps to.
 const FRAME: Duration = Duration::from_millis(16);
 
@@ -120,7 +128,7 @@ impl Worker {
     /// until the first [`Command::Restart`].
     pub fn spawn(operators: Arc<Operators>) -> Self {
         let (tx, commands) = mpsc::channel();
-        let (replies, rx) = mpsc::sync_channel(CHANNEL);
+        let (replies, rx) = mpsc::sync_channel(channel_len(operators.nodes()));
         let thread = std::thread::Builder::new()
             .name("shakedown-stepper".into())
             .spawn(move || Thread::new(operators, commands, replies).run())

@@ -12,6 +12,10 @@ use crate::stepping::{Phase, Status};
 use crate::tui::app::{format_load_factor, format_phase, format_sci, App, Confirm, Goal};
 use crate::tui::log::format_theta;
 
+/// Columns of an event's text kept, at least, when a notice shares its
+/// line (the event log has it whole).
+const EVENT_MIN: usize = 20;
+
 /// The status lines widget.
 pub struct StatusLines<'a> {
     pub app: &'a App,
@@ -172,9 +176,18 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
             theme.error(),
         ));
     } else if let Some(text) = app.entry() {
-        spans.push(Span::styled(
+        let room = width.saturating_sub(spans.iter().map(Span::width).sum());
+        let prompt = [
             format!(": {text}_  (lambda = 5.13, phi = pi/4, path = OA; Enter, Esc)"),
-            theme.alert(),
+            format!(": {text}_  (lambda = 5.13, phi = pi/4, path = OA)"),
+            format!(": {text}_  (lambda = 5.13, phi, path)"),
+        ]
+        .into_iter()
+        .find(|p| p.chars().count() <= room)
+        .unwrap_or_else(|| format!(": {text}_"));
+        spans.extend(super::fit_spans(
+            vec![Span::styled(prompt, theme.alert())],
+            room,
         ));
     } else if let Some(f) = app.failure() {
         spans.push(Span::styled(format!("solver failed: {f}"), theme.error()));
@@ -206,7 +219,9 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
             // rest, each cut with `…` (the event log has every event whole).
             let mut rest = room;
             if !notice.is_empty() {
-                let keep = if all + e <= room {
+                // The notice answers the last key: whole if the event
+                // keeps a readable start.
+                let keep = if all + e.min(EVENT_MIN) <= room {
                     n
                 } else {
                     n.min(
