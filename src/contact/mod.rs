@@ -1,7 +1,9 @@
 //! The contact: residual-traction operators and the incremental frictional
 //! solver. Knows nothing of paths, cycles or any user interface.
 
+mod cache;
 mod increment;
+mod inverse;
 mod operators;
 mod reduced;
 mod solver;

@@ -11,6 +11,7 @@
 use std::f64::consts::PI;
 
 use super::increment::{Engine, Increment};
+use super::inverse::SetInverse;
 use super::operators::{FftScratch, Operators};
 use super::reduced::ReducedSolver;
 use crate::model::{LoadPoint, Material};
@@ -171,6 +172,8 @@ pub(super) struct Workspace {
     relief: Vec<f64>,
     pub(super) fft: FftScratch,
     pub(super) reduced: ReducedSolver,
+    /// The inverse of the exact increment's reduced matrix.
+    pub(super) inverse: SetInverse,
     /// The exact path-following increment's cached responses and scratch.
     pub(super) engine: Engine,
 }
@@ -187,6 +190,7 @@ impl Workspace {
             relief: vec![0.0; n],
             fft: FftScratch::default(),
             reduced: ReducedSolver::new(n),
+            inverse: SetInverse::new(n),
             engine: Engine::new(n),
         }
     }
