@@ -267,13 +267,13 @@ impl SetInverse {
         let v = &mut self.v[..k];
         v.fill(0.0);
         let w = &mut self.w[..k];
-        for j in 0..k {
+        for (j, wj) in w.iter_mut().enumerate() {
             let colj = &self.inv[j * n..j * n + k];
             let cj = self.col[j];
             for (vi, &bij) in v.iter_mut().zip(colj) {
                 *vi += bij * cj;
             }
-            w[j] = dot(&self.row[..k], colj);
+            *wj = dot(&self.row[..k], colj);
         }
         let rv = dot(&self.row[..k], v);
         let sigma = d0 - rv;
@@ -282,8 +282,8 @@ impl SetInverse {
             return false;
         }
         let inv_sigma = 1.0 / sigma;
-        for j in 0..k {
-            let wj = w[j] * inv_sigma;
+        for (j, &wj) in w.iter().enumerate() {
+            let wj = wj * inv_sigma;
             let colj = &mut self.inv[j * n..j * n + k];
             for (bij, &vi) in colj.iter_mut().zip(v.iter()) {
                 *bij += vi * wj;
