@@ -35,7 +35,9 @@ use std::f64::consts::PI;
 
 use super::cache::{self, ResponseCache};
 use super::operators::{FftScratch, Operators};
-use super::solver::{fingerprint, Contact, ContactError, SlipDirection, Workspace};
+use super::solver::{
+    fingerprint, Advanced, Contact, ContactEnd, ContactError, SlipDirection, Solved, Workspace,
+};
 use super::solver::{DG_TOL, TRACTION_TOL};
 use crate::model::LoadPoint;
 
@@ -403,11 +405,31 @@ impl Contact {
     ///
     /// Gross slip is declared where `|y|` reaches `2 pi` and separation
     /// where `p` reaches 0: the contact is left at that point (its state
-    /// there is valid) and the error carries its load point;
-    /// [`Increment::reached`] tells how far along the segment it is. On
-    /// [`ContactError::NotSettled`] the contact is also left valid where it
-    /// got to, so the caller may cut the rest of the segment.
-    pub fn advance(&mut self, target: LoadPoint) -> Result<(), ContactError> {
+    /// there is valid) and [`Advanced::Ended`] carries the load point;
+    /// [`Increment::reached`] tells how far along the segment it is.
+    ///
+    /// # Errors
+    ///
+    /// [`ContactError::NotSettled`] when the rate problem and the
+    /// finite-step fallback do not settle; the contact is left valid where
+    /// it got to, so the caller may cut the rest of the segment.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use shakedown::{Advanced, Contact, LoadPoint, Material};
+    /// use shakedown::stepping::operators;
+    /// use shakedown::Discretisation;
+    ///
+    /// let mut contact = Contact::new(Material::paper(), operators(&Discretisation::default()));
+    /// // Inside the stick diamond |x| + |y| <= 2 pi nothing slips.
+    /// assert_eq!(contact.advance(LoadPoint::new(1.0, 2.0)), Ok(Advanced::Reached));
+    /// assert!(contact.directions().iter().all(|d| !d.is_slipping()));
+    /// // Along the torque axis the whole interface slides at |y| = 2 pi.
+    /// let end = contact.advance(LoadPoint::new(1.0, 7.0)).unwrap();
+    /// assert!(matches!(end, Advanced::Ended(shakedown::ContactEnd::GrossSlip { .. })));
+    /// ```
+    pub fn advance(&mut self, target: LoadPoint) -> Result<Advanced, ContactError> {
         let n = self.nodes();
         let mut w = self.work.take().unwrap_or_else(|| Workspace::new(n));
         let result = self.advance_with(target, &mut w);
@@ -415,13 +437,17 @@ impl Contact {
         result
     }
 
-    fn advance_with(&mut self, target: LoadPoint, w: &mut Workspace) -> Result<(), ContactError> {
+    fn advance_with(
+        &mut self,
+        target: LoadPoint,
+        w: &mut Workspace,
+    ) -> Result<Advanced, ContactError> {
         let from = self.load;
         self.increment.reset(from, target);
         let (dx, dy) = (target.x() - from.x(), target.y() - from.y());
         if dx == 0.0 && dy == 0.0 {
             self.increment.reached = 1.0;
-            return Ok(());
+            return Ok(Advanced::Reached);
         }
         if !w.engine.elastic_ready {
             self.elastic_responses(w);
@@ -467,7 +493,7 @@ impl Contact {
                         self.increment.reached = s + t;
                         self.load = on_torque_limit(from.lerp(target, s + t), side);
                         self.refresh_tractions();
-                        return Err(ContactError::GrossSlip { load: self.load });
+                        return Ok(Advanced::Ended(ContactEnd::GrossSlip { load: self.load }));
                     }
                     Err(RateFailure::NotSettled) => return self.fallback(target, s, w),
                 }
@@ -484,7 +510,7 @@ impl Contact {
             s = s_new;
             self.increment.reached = s;
             match stop {
-                Stop::End => return Ok(()),
+                Stop::End => return Ok(Advanced::Reached),
                 Stop::Entry => {
                     events += 1;
                     if events > max_events {
@@ -492,9 +518,15 @@ impl Contact {
                     }
                 }
                 Stop::Separation(node) => {
-                    return Err(self.separation(self.load, node, self.pressure[node]));
+                    return Ok(Advanced::Ended(self.separation(
+                        self.load,
+                        node,
+                        self.pressure[node],
+                    )));
                 }
-                Stop::Gross => return Err(ContactError::GrossSlip { load: self.load }),
+                Stop::Gross => {
+                    return Ok(Advanced::Ended(ContactEnd::GrossSlip { load: self.load }))
+                }
             }
         }
     }
@@ -991,12 +1023,12 @@ impl Contact {
         target: LoadPoint,
         s: f64,
         w: &mut Workspace,
-    ) -> Result<(), ContactError> {
+    ) -> Result<Advanced, ContactError> {
         let n = self.nodes();
         let f = self.material.friction();
         self.increment.fallback = true;
         match self.solve_with(target, f, n, w) {
-            Ok(trial) => {
+            Ok(Solved::Trial(trial)) => {
                 self.increment.dissipation += trial.dissipation;
                 self.increment.segments += 1;
                 self.increment.factorisations += trial.factorisations;
@@ -1010,9 +1042,9 @@ impl Contact {
                 // `commit` without the invalidation of the (taken) workspace.
                 self.commit(trial);
                 self.increment.reached = 1.0;
-                Ok(())
+                Ok(Advanced::Reached)
             }
-            Err(ContactError::GrossSlip { .. }) => {
+            Ok(Solved::Ended(ContactEnd::GrossSlip { .. })) => {
                 // Only on the torque limit; otherwise the trial set had not
                 // settled.
                 let (y0, y1) = (self.load.y(), target.y());
@@ -1021,7 +1053,7 @@ impl Contact {
                     let r = (limit - y0) / (y1 - y0);
                     let load = on_torque_limit(self.load.lerp(target, r), y1 - y0);
                     self.increment.reached = s + (1.0 - s) * r;
-                    Err(ContactError::GrossSlip { load })
+                    Ok(Advanced::Ended(ContactEnd::GrossSlip { load }))
                 } else {
                     self.increment.reached = s;
                     Err(ContactError::NotSettled {
@@ -1029,6 +1061,10 @@ impl Contact {
                         iterations: 0,
                     })
                 }
+            }
+            Ok(Solved::Ended(end)) => {
+                self.increment.reached = s;
+                Ok(Advanced::Ended(end))
             }
             Err(e) => {
                 self.increment.reached = s;

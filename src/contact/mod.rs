@@ -10,4 +10,4 @@ mod solver;
 
 pub use increment::{ContactEvent, ContactEventKind, Increment};
 pub use operators::Operators;
-pub use solver::{Contact, ContactError, SlipDirection, Trial};
+pub use solver::{Advanced, Contact, ContactEnd, ContactError, SlipDirection, Solved, Trial};
