@@ -415,9 +415,9 @@ fn cycle_bytes(s: &Stepper) -> usize {
         .iter()
         .rev()
         .take_while(|r| !r.forward.is_empty())
-        .map(|r| 8 * (r.forward.len() + r.backward.len()))
+        .map(|r| std::mem::size_of_val(&r.forward[..]) + std::mem::size_of_val(&r.backward[..]))
         .sum();
-    history.len() * std::mem::size_of::<crate::CycleRecord>() + slip
+    std::mem::size_of_val(history) + slip
 }
 
 /// `g` minus its mean, as stored.
