@@ -126,6 +126,8 @@ pub enum Confirm {
 pub struct Pinned {
     /// What the run was: `lambda`, `phi` and the initial path.
     pub label: String,
+    /// Its initial path alone (the short label when space is short).
+    pub path: String,
     /// Its steady state when pinned, or `unclassified`.
     pub state: String,
     /// `(cycle, W)` of every completed cycle.
@@ -837,6 +839,7 @@ impl App {
         self.notice = Some(format!("pinned {label}: change the run to compare"));
         self.pinned = Some(Pinned {
             label,
+            path: self.case.initial.name(),
             state,
             cycles: self.cycles.clone(),
             slip,

@@ -124,17 +124,15 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
     if let Some(p) = app.pinned() {
         // The pinned run's state is the point of the comparison; its label
         // (lambda, phi, path) was said when it was pinned.
-        let full = format!("{}: {}", p.label, p.state);
         let room = width.saturating_sub(line2.width() + 12);
-        line2.spans.extend([
-            sep(),
-            label("pinned "),
-            value(if full.chars().count() <= room {
-                full
-            } else {
-                p.state.clone()
-            }),
-        ]);
+        let text = [
+            format!("{}: {}", p.label, p.state),
+            format!("{}: {}", p.path, p.state),
+        ]
+        .into_iter()
+        .find(|t| t.chars().count() <= room)
+        .unwrap_or_else(|| format!("{}: {}", p.path, p.state));
+        line2.spans.extend([sep(), label("pinned "), value(text)]);
     }
     let line2 = Line::from(super::fit_spans(line2.spans, width));
 
