@@ -411,8 +411,8 @@ pub struct TuiArgs {
     /// Draw with ASCII only (no Braille, box drawing or Greek letters).
     #[arg(long)]
     pub ascii: bool,
-    /// Memory for the run's history, in MiB; older detail is decimated,
-    /// then dropped, to stay within it.
+    /// Memory for the record of the run (history, event log, cycles), in
+    /// MiB; older detail is decimated, then dropped, to stay within it.
     #[arg(long, value_name = "MIB", default_value_t = shakedown::tui::app::DEFAULT_HISTORY_MB as u64,
           value_parser = clap::value_parser!(u64).range(8..=65536))]
     pub history_mb: u64,

@@ -58,7 +58,9 @@ pub struct Config {
     pub color: bool,
     /// ASCII only: no Braille, box drawing or Greek letters.
     pub ascii: bool,
-    /// Bytes the record of the run may use.
+    /// Bytes the record of the run may use (`--history-mb`): the
+    /// increments' history, the event log, the stepper's record of cycles
+    /// and the `W` series share it.
     pub history_bytes: usize,
 }
 
