@@ -23,7 +23,7 @@ use shakedown::analysis::memory::{
 use shakedown::analysis::regime::{RegimeCell, RegimeMap};
 use shakedown::analysis::slip_map::{slip_map, SlipMap, SlipMapError};
 use shakedown::analysis::sweep::Axis;
-use shakedown::analysis::sweep::{SweepSpec, CSV_HEADER};
+use shakedown::analysis::sweep::SweepSpec;
 use shakedown::figure::data::{data_lines, parse_sweep_csv};
 use shakedown::figure::dissipation::memory_window;
 use shakedown::figure::FigureError;
@@ -38,9 +38,10 @@ use shakedown::io::csv::{case_metadata, slip_csv, sweep_metadata};
 use shakedown::io::output::{check_file_stem, is_nonempty_file, temp_path};
 
 use super::batch::{
-    ctrl_c, lock_output, refuse_input_as_output, report_interrupt, write_file, Output, INTERRUPTED,
+    lock_output, progress, refuse_input_as_output, report_interrupt, stream_sweep, write_file,
+    INTERRUPTED,
 };
-use super::sweep::{job_key, progress, row_key, spec, warn_failures, ListArgs};
+use super::sweep::{job_key, spec, warn_failures, ListArgs};
 use super::{load_preset, InputError, ModelArgs};
 
 /// The flags of `shakedown figure`.
@@ -122,8 +123,8 @@ fn read(flag: &str, path: &Path) -> Result<String> {
 }
 
 /// A sweep figure's points: from `--from`, or by running the sweep (row by
-/// row into the CSV, resumable) and reading the CSV back, so that a redraw
-/// from the CSV draws exactly the same figure.
+/// row into the CSV, resumable: [`stream_sweep`]) and reading the CSV back,
+/// so that a redraw from the CSV draws exactly the same figure.
 ///
 /// With `replace` (an existing figure and `--force`), the table is written
 /// beside the old one and renamed over it only once it is complete, so an
@@ -141,63 +142,42 @@ fn sweep_points(
         return Ok(Ok(points));
     }
     let jobs = spec.jobs();
-    // Rows stream to the CSV in job order, one flushed line each, so that
-    // Ctrl-C leaves a file of complete rows (a prefix of the full table)
-    // that --resume continues.
     let keys: Vec<String> = jobs.iter().map(|j| job_key(spec, j)).collect();
     let target = if replace {
         temp_path(csv_path)
     } else {
         csv_path.to_path_buf()
     };
-    let meta = sweep_metadata(spec);
-    let mut out = Output::open(
+    let mut failed = Vec::new();
+    let streamed = stream_sweep(
+        spec,
+        &jobs,
+        &keys,
         Some(&target),
         args.resume,
         replace || args.force,
-        &meta,
-        CSV_HEADER,
-        &keys,
-        row_key,
-    )?;
-    let todo = &jobs[out.kept..];
-    if out.kept > 0 {
-        eprintln!(
-            "resuming: {} of {} runs are already in {}",
-            out.kept,
-            jobs.len(),
-            out.describe()
-        );
-    }
-    let mut rows = Vec::with_capacity(todo.len());
-    if !todo.is_empty() {
-        let interrupt = ctrl_c()?;
-        let bar = progress(jobs.len());
-        bar.set_position(out.kept as u64);
-        bar.reset_eta();
-        let result = spec.run_ordered(todo, interrupt, |row| {
-            out.line(&row.csv_line())?;
-            bar.inc(1);
-            rows.push(row);
-            anyhow::Ok(())
-        });
-        bar.finish_and_clear();
-        if !result?.is_complete() {
-            if replace {
-                drop(out);
-                let _ = std::fs::remove_file(&target);
-                eprintln!(
-                    "interrupted: {} of {} runs were done; the figure made before is unchanged",
-                    rows.len(),
-                    jobs.len()
-                );
-                return Ok(Err(ExitCode::from(INTERRUPTED)));
+        |row, _| {
+            if let Err(e) = &row.outcome {
+                failed.push(e.to_string());
             }
-            eprintln!("no plot was drawn");
-            return Ok(Err(report_interrupt(&out, jobs.len())));
+        },
+    )?;
+    let out = streamed.out;
+    if !streamed.complete {
+        if replace {
+            let written = out.written;
+            drop(out);
+            let _ = std::fs::remove_file(&target);
+            eprintln!(
+                "interrupted: {written} of {} runs were done; the figure made before is unchanged",
+                jobs.len()
+            );
+            return Ok(Err(ExitCode::from(INTERRUPTED)));
         }
-        warn_failures(&rows);
+        eprintln!("no plot was drawn");
+        return Ok(Err(report_interrupt(&out, jobs.len())));
     }
+    warn_failures(&failed, out.written);
     drop(out);
     if replace {
         std::fs::rename(&target, csv_path)
