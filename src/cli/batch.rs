@@ -371,7 +371,15 @@ pub fn stream_sweep(
     mut each: impl FnMut(&Row, &ProgressBar),
 ) -> Result<Streamed> {
     let meta = sweep_metadata(spec);
-    let mut out = Output::open(target, resume, force, &meta, CSV_HEADER, keys, sweep_row_key)?;
+    let mut out = Output::open(
+        target,
+        resume,
+        force,
+        &meta,
+        CSV_HEADER,
+        keys,
+        sweep_row_key,
+    )?;
     let todo = &jobs[out.kept.min(jobs.len())..];
     if out.kept > 0 {
         eprintln!(

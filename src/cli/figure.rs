@@ -34,7 +34,7 @@ use shakedown::figure::{
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::io::preset::{FigureKind, FigureSpec, Preset};
 
-use shakedown::io::csv::{case_metadata, slip_csv, sweep_metadata};
+use shakedown::io::csv::{read_slip_map, slip_csv, slip_map_metadata, sweep_metadata, SlipMapFile};
 use shakedown::io::output::{check_file_stem, is_nonempty_file, temp_path};
 
 use super::batch::{
@@ -58,7 +58,7 @@ pub struct FigureArgs {
     /// old files stay until the new ones are complete.
     #[arg(long)]
     pub force: bool,
-    /// Redraw from a CSV this figure wrote (NAME.csv), without running anything. The model flags (e.g. --nodes) only matter for lambda_2.
+    /// Redraw from a CSV this figure wrote (NAME.csv; a slip map also reads NAME_load.csv beside it), without running anything. The model flags (e.g. --nodes) only matter for lambda_2.
     #[arg(long, value_name = "FILE.csv", conflicts_with = "resume")]
     pub from: Option<PathBuf>,
     /// Continue an interrupted figure: keep the complete rows of DIR/NAME.csv, run the rest, then draw (sweep figures and the regime map).
@@ -410,18 +410,19 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             write_plot(&plot, &file(".svg"), &file(".png"))?;
         }
         FigureKind::SlipMap => {
-            if redraw {
-                eprintln!("note: a slip map is one run (under a second): {stem} is recomputed, not read from --from");
-            }
-            let case = single_case(&args, &preset)?;
-            let map = slip_map(&case).map_err(|e| input(e.into()))?;
-            if !redraw {
-                let meta = case_metadata("slip-map", &case, &case.initial.name()).render();
-                write(&file(".csv"), &(meta.clone() + &map.csv()))?;
-                write(&file("_load.csv"), &(meta + &map.load_csv()))?;
-                written.push(file(".csv"));
-                written.push(file("_load.csv"));
-            }
+            let map = match &args.from {
+                Some(f) => read_slip_map_files(f)?,
+                None => {
+                    let case = single_case(&args, &preset)?;
+                    let map = slip_map(&case).map_err(|e| input(e.into()))?;
+                    let meta = slip_map_metadata(&case, &map).render();
+                    write(&file(".csv"), &(meta.clone() + &map.csv()))?;
+                    write(&file("_load.csv"), &(meta + &map.load_csv()))?;
+                    written.push(file(".csv"));
+                    written.push(file("_load.csv"));
+                    map
+                }
+            };
             describe(&map)?;
             let plot = SlipMapPlot {
                 map: &map,
@@ -572,6 +573,40 @@ fn parse_memory_csv(text: &str) -> std::result::Result<Vec<MemoryPoint>, String>
         });
     }
     Ok(out)
+}
+
+/// The load table beside a slip map's CSV: `NAME_load.csv` for `NAME.csv`.
+fn load_file_of(map: &Path) -> PathBuf {
+    let stem = map
+        .file_stem()
+        .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    map.with_file_name(format!("{stem}_load.csv"))
+}
+
+/// A slip map read back from the CSV `from` and its load table beside it
+/// (`NAME_load.csv`), as `figure fig5` (or `fig7`) wrote them: nothing is
+/// run. A file that is not such a table, or is cut short, is bad input
+/// named in one line.
+fn read_slip_map_files(from: &Path) -> Result<SlipMap> {
+    let load = load_file_of(from);
+    let map_text = read("--from", from)?;
+    let load_text = std::fs::read_to_string(&load).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--from {}: cannot read its load table {}: {e}",
+            from.display(),
+            load.display()
+        )))
+    })?;
+    read_slip_map(&map_text, &load_text).map_err(|e| {
+        let file = match e.file {
+            SlipMapFile::Map => from,
+            SlipMapFile::Load => &load,
+        };
+        anyhow!(InputError(format!(
+            "--from {}: cannot redraw a slip map from it: {e}",
+            file.display()
+        )))
+    })
 }
 
 fn describe(map: &SlipMap) -> Result<()> {
