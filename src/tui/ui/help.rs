@@ -92,6 +92,7 @@ impl Widget for Help<'_> {
             Mode::Stepping => " Keys: stepping view ",
             Mode::Sweep => " Keys: sweep view ",
             Mode::Log => " Keys: event log ",
+            Mode::Regime => " Keys: regime map ",
         };
         let table = Table::new(rows, widths).column_spacing(1).block(
             theme

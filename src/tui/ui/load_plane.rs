@@ -141,8 +141,8 @@ fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Them
             );
             ctx.print(0.0, 0.0, Span::styled("O", label_style));
             // The custom path's points, numbered in path order when there
-            // are several and room for the numbers.
-            let numbered = waypoints.len() > 1 && roomy;
+            // are several.
+            let numbered = waypoints.len() > 1;
             for (k, &(x, y)) in waypoints.iter().enumerate() {
                 let mark = theme.sym("◆", "*");
                 let text = if numbered {

@@ -432,6 +432,7 @@ fn render_status(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             state,
         ]);
     }
+    line1.push(label("   g: regime map over (lambda, phi)"));
     let line2 = match app.confirm() {
         Some(crate::tui::app::Confirm::Quit(_)) => Line::from(Span::styled(
             " the map is not saved (s saves): quit anyway? y/n",
