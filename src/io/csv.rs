@@ -634,11 +634,7 @@ fn table_lines<'a>(
 
 /// A complete line's fields, or why not: a last line without its newline
 /// is a file cut short.
-fn row_fields<'a>(
-    n: usize,
-    line: &'a str,
-    columns: usize,
-) -> Result<Vec<&'a str>, SlipMapFileError> {
+fn row_fields(n: usize, line: &str, columns: usize) -> Result<Vec<&str>, SlipMapFileError> {
     let row = |why: &str| SlipMapFileError::Row {
         line: n,
         why: why.to_string(),

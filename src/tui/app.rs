@@ -176,6 +176,8 @@ pub struct App {
     view: View,
     sweep: Result<Sweep, String>,
     regime: Result<Regime, String>,
+    /// Where `g` in the regime map goes back to: the view it came from.
+    regime_back: View,
     sweep_log_w: bool,
     sweep_saved: bool,
     suspend: bool,
@@ -246,6 +248,7 @@ impl App {
             view: View::Stepping,
             sweep: source.map(Sweep::new),
             regime,
+            regime_back: View::Sweep,
             sweep_log_w: true,
             sweep_saved: false,
             suspend: false,
@@ -699,16 +702,19 @@ impl App {
         }
     }
 
-    /// `g`: between the sweep's `W` plot and the regime map. The map
-    /// computes only while it is shown.
+    /// `g`: the regime map, from the stepping view or the sweep's `W`
+    /// plot, and back to where it came from. The map computes only while
+    /// it is shown.
     fn toggle_regime(&mut self) {
         match self.view {
             View::Regime => {
                 self.pause_regime();
-                self.view = View::Sweep;
+                self.view = self.regime_back;
             }
-            _ => {
+            from => {
+                self.regime_back = from;
                 self.view = View::Regime;
+                self.log_open = false;
                 self.help = false;
                 let (lambda, phi) = (self.load_factor(), self.phase());
                 match &mut self.regime {

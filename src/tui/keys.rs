@@ -126,8 +126,8 @@ pub enum Action {
     OpenRun,
     /// Sweep `r`: run the sweep again (asks first if the map would be lost).
     RestartSweep,
-    /// `g`: from the sweep's `W` plot to the regime map over
-    /// `(lambda, phi)`, and back.
+    /// `g`: from the stepping view or the sweep's `W` plot to the regime
+    /// map over `(lambda, phi)`, and back.
     ToggleRegime,
     /// Regime map: the previous `lambda`.
     RegimePrevLambda,
@@ -457,6 +457,13 @@ pub const BINDINGS: &[Binding] = &[
         scope: Scope::Stepping,
     },
     Binding {
+        keys: &[ch('g')],
+        label: "g",
+        action: Action::ToggleRegime,
+        help: "regime map over (lambda, phi)",
+        scope: Scope::Stepping,
+    },
+    Binding {
         keys: &[ch('p')],
         label: "p",
         action: Action::Pin,
@@ -698,7 +705,7 @@ pub const BINDINGS: &[Binding] = &[
         keys: &[ch('g')],
         label: "g",
         action: Action::ToggleRegime,
-        help: "back to W against lambda",
+        help: "back to the view before",
         scope: Scope::Regime,
     },
     Binding {

@@ -4,7 +4,8 @@
 //! background threads, `lambda_2(phi)` from the linear programme, and the
 //! cursor over the cells. No terminal I/O here and no physics: the runs
 //! are [`SweepSpec::run_ordered`]'s, the map is a [`RegimeMap`] and the
-//! limit curve [`limit_curve`]'s.
+//! limit curve is [`shakedown_limit`] at each phase (as
+//! [`crate::analysis::limit_curve`] computes it).
 //!
 //! The map computes only while it is on screen. Leaving it, or starting
 //! it again (another transient, a rerun), cancels the runs it replaces:
@@ -18,7 +19,7 @@ use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::Arc;
 
 use crate::analysis::case::Case;
-use crate::analysis::limit_curve::limit_curve;
+use crate::analysis::limit::shakedown_limit;
 use crate::analysis::ordered::{Interrupt, StopLevel};
 use crate::analysis::regime::{RegimeCell, RegimeMap};
 use crate::analysis::sweep::{Job, Row, SweepLists, SweepSpec};
@@ -268,22 +269,26 @@ impl Regime {
         let (tx, rx) = mpsc::channel();
         self.curve_rx = Some(rx);
         let alive = Alive::new(&self.alive);
+        // One programme after another on this thread, not on rayon's pool,
+        // where a sweep's runs may be queued ahead of them.
         std::thread::spawn(move || {
             let _alive = alive;
-            let curve = limit_curve(
-                &spec.material(),
-                spec.center(),
-                spec.slope(),
-                &phases,
-                &spec.disc(),
-                CURVE_SAMPLES,
-            );
-            let _ = tx.send(
-                curve
-                    .into_iter()
-                    .map(|p| p.limit.ok().map(|l| l.0))
-                    .collect(),
-            );
+            let curve = phases
+                .iter()
+                .map(|&phase| {
+                    shakedown_limit(
+                        &spec.material(),
+                        spec.center(),
+                        spec.slope(),
+                        phase,
+                        &spec.disc(),
+                        CURVE_SAMPLES,
+                    )
+                    .ok()
+                    .map(|l| l.load_factor)
+                })
+                .collect();
+            let _ = tx.send(curve);
         });
     }
 

@@ -392,17 +392,18 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
         }
         Action::ToggleRegime => {
             handle(&mut app);
-            if view == View::Sweep {
+            if view == View::Regime {
+                // Shown directly: back to the sweep view, and in again.
+                assert_eq!(app.view(), View::Sweep);
+                handle(&mut app);
+                assert_eq!(app.view(), View::Regime);
+            } else {
                 assert_eq!(app.view(), View::Regime);
                 let r = app.regime().unwrap();
                 assert!(r.started() && r.is_running(), "the map computes when shown");
                 handle(&mut app);
-                assert_eq!(app.view(), View::Sweep);
+                assert_eq!(app.view(), view, "g goes back where it came from");
                 assert!(!app.regime().unwrap().is_running(), "and only then");
-            } else {
-                assert_eq!(app.view(), View::Sweep);
-                handle(&mut app);
-                assert_eq!(app.view(), View::Regime);
             }
         }
         Action::RegimePrevLambda | Action::RegimeNextLambda => {

@@ -253,7 +253,7 @@ impl Widget for MapPanel<'_> {
         }
         let name = "lambda";
         let end = x0 + (nl * w) as u16;
-        if end >= free + name.len() as u16 + 1 && end <= inner.x + inner.width {
+        if end > free + name.len() as u16 && end <= inner.x + inner.width {
             buf.set_string(end - name.len() as u16, below + 1, name, theme.title());
         }
     }
@@ -292,7 +292,7 @@ fn render_legend(frame: &mut Frame, area: Rect, regime: &Regime, theme: &Theme) 
         Span::styled(format!("{pending:>3}"), theme.value()),
     ]));
     let curve = match regime.curve() {
-        CurveState::Computing => " (computing…)",
+        CurveState::Computing => " computing…",
         CurveState::Known(_) => "",
     };
     lines.push(Line::from(vec![
@@ -393,9 +393,9 @@ fn render_status(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         )),
     };
     let hint = if area.width >= 110 {
-        " Esc back  ←→ lambda  ↑↓ phi  PgUp PgDn Home End  Enter open  [ ] path  r rerun  g W plot  ? help  q quit"
+        " Esc g back  ←→ lambda  ↑↓ phi  PgUp PgDn Home End  Enter open  [ ] path  r rerun  ? help  q quit"
     } else {
-        " Esc back  ←→ lambda  ↑↓ phi  Enter open  [ ] path  r rerun  g W  ? help  q quit"
+        " Esc g back  ←→ lambda  ↑↓ phi  Enter open  [ ] path  r rerun  ? help  q quit"
     };
     frame.render_widget(
         Paragraph::new(vec![
