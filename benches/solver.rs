@@ -14,7 +14,7 @@ use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use shakedown::analysis::sweep::SweepSpec;
 use shakedown::stepping::operators;
 use shakedown::{
-    Contact, Cycle, Discretisation, Initial, LoadPoint, Material, StepOptions, Stepper,
+    Advanced, Contact, Cycle, Discretisation, Initial, LoadPoint, Material, StepOptions, Stepper,
 };
 
 /// A contact in the middle of a partial slip zone: the disc loaded beyond
@@ -27,7 +27,9 @@ fn partially_slipping() -> (Contact, LoadPoint) {
     for i in 1..=steps {
         let t = c
             .solve(LoadPoint::ORIGIN.lerp(target, i as f64 / steps as f64))
-            .unwrap();
+            .unwrap()
+            .trial()
+            .expect("no physical end");
         c.commit(t);
     }
     let slipping = c.directions().iter().filter(|d| d.is_slipping()).count();
@@ -44,7 +46,7 @@ fn increment(cr: &mut Criterion) {
         b.iter_batched(
             || contact.clone(),
             |mut c| {
-                let t = c.solve(next).unwrap();
+                let t = c.solve(next).unwrap().trial().expect("no physical end");
                 c.commit(t);
                 c
             },
@@ -68,7 +70,7 @@ fn unchanged_set() -> (Contact, LoadPoint) {
     loop {
         let next = LoadPoint::new(2.0, 5.5 + dy);
         let mut probe = c.clone();
-        probe.advance(next).unwrap();
+        assert_eq!(probe.advance(next), Ok(Advanced::Reached));
         let inc = probe.last_increment();
         if inc.events.is_empty() && inc.segments == 1 && !inc.set_changed {
             // Warm the cached responses along this direction.
@@ -91,7 +93,10 @@ fn consecutive(contact: &Contact, to: LoadPoint, iters: u64) -> Duration {
         let chunk = K.min(iters - done);
         let start = Instant::now();
         for i in 1..=chunk {
-            c.advance(from.lerp(to, i as f64 / K as f64)).unwrap();
+            assert_eq!(
+                c.advance(from.lerp(to, i as f64 / K as f64)),
+                Ok(Advanced::Reached)
+            );
         }
         total += start.elapsed();
         black_box(&c);

@@ -96,7 +96,7 @@ pub mod stepping;
 #[cfg(feature = "tui")]
 pub mod tui;
 
-pub use contact::{Contact, ContactError, Operators, SlipDirection};
+pub use contact::{Advanced, Contact, ContactEnd, ContactError, Operators, SlipDirection};
 pub use model::PathError;
 pub use model::{Cycle, Discretisation, Initial, LoadPoint, Loads, Material, ParamError, Plane};
 pub use stepping::steady::{Approach, Convergence, CycleRecord, SteadyState};

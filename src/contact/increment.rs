@@ -33,7 +33,11 @@
 
 use std::f64::consts::PI;
 
-use super::solver::{fingerprint, Contact, ContactError, SlipDirection, Workspace};
+use super::cache::{self, ResponseCache};
+use super::operators::{FftScratch, Operators};
+use super::solver::{
+    fingerprint, Advanced, Contact, ContactEnd, ContactError, SlipDirection, Solved, Workspace,
+};
 use super::solver::{DG_TOL, TRACTION_TOL};
 use crate::model::LoadPoint;
 
@@ -51,20 +55,6 @@ const GROSS_TOL: f64 = 1e-9;
 fn on_torque_limit(point: LoadPoint, dy: f64) -> LoadPoint {
     let beyond = f64::from_bits((2.0 * PI).to_bits() + 1);
     LoadPoint::new(point.x(), beyond.copysign(dy))
-}
-
-/// `sum_j p_j |t r_j|`, in four interleaved partial sums.
-fn weighted_abs(p: &[f64], r: &[f64], t: f64) -> f64 {
-    let mut acc = [0.0; 4];
-    let (pc, rc) = (p.chunks_exact(4), r.chunks_exact(4));
-    let (pt, rt) = (pc.remainder(), rc.remainder());
-    for (pp, rr) in pc.zip(rc) {
-        for i in 0..4 {
-            acc[i] += pp[i] * (t * rr[i]).abs();
-        }
-    }
-    let tail: f64 = pt.iter().zip(rt).map(|(p, r)| p * (t * r).abs()).sum();
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 /// `(max |r|, min s r)` over the nodes, in four lanes.
@@ -277,9 +267,6 @@ pub(crate) struct Engine {
     sgn: Vec<f64>,
     /// 0 on stick nodes, infinity on slip nodes (their slack is not watched).
     off: Vec<f64>,
-    /// Sub-segments since `p` and `q` were last recomputed from the
-    /// elastic and residual parts (between, they are updated by the rates).
-    since_refresh: usize,
     /// Rates along the current segment: slip on the set; p and q at every
     /// node (filled for the rate problem only).
     rg: Vec<f64>,
@@ -289,11 +276,13 @@ pub(crate) struct Engine {
     trial: Vec<SlipDirection>,
     before: Vec<SlipDirection>,
     seen: Vec<u64>,
-    rhs: Vec<f64>,
     x: Vec<f64>,
     full: Vec<f64>,
     hbuf: Vec<f64>,
     dbuf: Vec<f64>,
+    /// Slip rates of recently seen sets, and the entry of the current one.
+    cache: ResponseCache,
+    slot: Option<usize>,
 }
 
 impl Engine {
@@ -323,6 +312,23 @@ impl Engine {
         }
     }
 
+    /// The responses to the direction of `axis` from its slip rates in
+    /// `full` (zero off the set): `H g'` and `-|D| g'` by FFT, and totals.
+    fn fill_axis(&mut self, ops: &Operators, fft: &mut FftScratch, axis: usize) {
+        ops.apply_both(&self.full, &mut self.hbuf, &mut self.dbuf, fft);
+        let (g, hp, hq) = if axis == 0 {
+            (&mut self.gx, &mut self.hpx, &mut self.hqx)
+        } else {
+            (&mut self.gy, &mut self.hpy, &mut self.hqy)
+        };
+        g.copy_from_slice(&self.full);
+        hp.copy_from_slice(&self.hbuf);
+        for (o, &d) in hq.iter_mut().zip(&self.dbuf) {
+            *o = -d;
+        }
+        self.totals(axis);
+    }
+
     pub(super) fn new(n: usize) -> Self {
         let z = || vec![0.0; n];
         Self {
@@ -349,18 +355,18 @@ impl Engine {
             stick: vec![true; n],
             sgn: z(),
             off: z(),
-            since_refresh: 0,
             rg: z(),
             rp: z(),
             rq: z(),
             trial: vec![SlipDirection::Stick; n],
             before: vec![SlipDirection::Stick; n],
             seen: Vec::new(),
-            rhs: z(),
             x: z(),
             full: z(),
             hbuf: z(),
             dbuf: z(),
+            cache: ResponseCache::new(cache::DEFAULT_BUDGET),
+            slot: None,
         }
     }
 }
@@ -399,11 +405,31 @@ impl Contact {
     ///
     /// Gross slip is declared where `|y|` reaches `2 pi` and separation
     /// where `p` reaches 0: the contact is left at that point (its state
-    /// there is valid) and the error carries its load point;
-    /// [`Increment::reached`] tells how far along the segment it is. On
-    /// [`ContactError::NotSettled`] the contact is also left valid where it
-    /// got to, so the caller may cut the rest of the segment.
-    pub fn advance(&mut self, target: LoadPoint) -> Result<(), ContactError> {
+    /// there is valid) and [`Advanced::Ended`] carries the load point;
+    /// [`Increment::reached`] tells how far along the segment it is.
+    ///
+    /// # Errors
+    ///
+    /// [`ContactError::NotSettled`] when the rate problem and the
+    /// finite-step fallback do not settle; the contact is left valid where
+    /// it got to, so the caller may cut the rest of the segment.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use shakedown::{Advanced, Contact, LoadPoint, Material};
+    /// use shakedown::stepping::operators;
+    /// use shakedown::Discretisation;
+    ///
+    /// let mut contact = Contact::new(Material::paper(), operators(&Discretisation::default()));
+    /// // Inside the stick diamond |x| + |y| <= 2 pi nothing slips.
+    /// assert_eq!(contact.advance(LoadPoint::new(1.0, 2.0)), Ok(Advanced::Reached));
+    /// assert!(contact.directions().iter().all(|d| !d.is_slipping()));
+    /// // Along the torque axis the whole interface slides at |y| = 2 pi.
+    /// let end = contact.advance(LoadPoint::new(1.0, 7.0)).unwrap();
+    /// assert!(matches!(end, Advanced::Ended(shakedown::ContactEnd::GrossSlip { .. })));
+    /// ```
+    pub fn advance(&mut self, target: LoadPoint) -> Result<Advanced, ContactError> {
         let n = self.nodes();
         let mut w = self.work.take().unwrap_or_else(|| Workspace::new(n));
         let result = self.advance_with(target, &mut w);
@@ -411,13 +437,17 @@ impl Contact {
         result
     }
 
-    fn advance_with(&mut self, target: LoadPoint, w: &mut Workspace) -> Result<(), ContactError> {
+    fn advance_with(
+        &mut self,
+        target: LoadPoint,
+        w: &mut Workspace,
+    ) -> Result<Advanced, ContactError> {
         let from = self.load;
         self.increment.reset(from, target);
         let (dx, dy) = (target.x() - from.x(), target.y() - from.y());
         if dx == 0.0 && dy == 0.0 {
             self.increment.reached = 1.0;
-            return Ok(());
+            return Ok(Advanced::Reached);
         }
         if !w.engine.elastic_ready {
             self.elastic_responses(w);
@@ -463,7 +493,7 @@ impl Contact {
                         self.increment.reached = s + t;
                         self.load = on_torque_limit(from.lerp(target, s + t), side);
                         self.refresh_tractions();
-                        return Err(ContactError::GrossSlip { load: self.load });
+                        return Ok(Advanced::Ended(ContactEnd::GrossSlip { load: self.load }));
                     }
                     Err(RateFailure::NotSettled) => return self.fallback(target, s, w),
                 }
@@ -480,7 +510,7 @@ impl Contact {
             s = s_new;
             self.increment.reached = s;
             match stop {
-                Stop::End => return Ok(()),
+                Stop::End => return Ok(Advanced::Reached),
                 Stop::Entry => {
                     events += 1;
                     if events > max_events {
@@ -488,9 +518,15 @@ impl Contact {
                     }
                 }
                 Stop::Separation(node) => {
-                    return Err(self.separation(self.load, node, self.pressure[node]));
+                    return Ok(Advanced::Ended(self.separation(
+                        self.load,
+                        node,
+                        self.pressure[node],
+                    )));
                 }
-                Stop::Gross => return Err(ContactError::GrossSlip { load: self.load }),
+                Stop::Gross => {
+                    return Ok(Advanced::Ended(ContactEnd::GrossSlip { load: self.load }))
+                }
             }
         }
     }
@@ -562,10 +598,40 @@ impl Contact {
             e.valid = true;
             return true;
         }
+        if let Some(hit) = e.cache.lookup(&e.dirs) {
+            // A set met before: its slip rates, and p and q by one FFT.
+            e.u1 = hit.u1;
+            e.slot = Some(hit.slot);
+            e.full.fill(0.0);
+            for (&(j, _), &r) in e.set.iter().zip(hit.first) {
+                e.full[j] = r;
+            }
+            let have2 = if let Some(second) = hit.second {
+                e.x.fill(0.0);
+                for (&(j, _), &r) in e.set.iter().zip(second) {
+                    e.x[j] = r;
+                }
+                true
+            } else {
+                false
+            };
+            e.fill_axis(&self.ops, &mut w.fft, 0);
+            if have2 {
+                std::mem::swap(&mut e.full, &mut e.x);
+                e.fill_axis(&self.ops, &mut w.fft, 1);
+            }
+            e.have2 = have2;
+            e.valid = true;
+            return true;
+        }
         if !self.axis_response(w, 0) {
             return false;
         }
-        w.engine.valid = true;
+        let e = &mut w.engine;
+        e.slot = e
+            .cache
+            .insert(&e.dirs, e.u1, e.set.iter().map(|&(j, _)| e.gx[j]));
+        e.valid = true;
         true
     }
 
@@ -574,37 +640,23 @@ impl Contact {
     fn axis_response(&mut self, w: &mut Workspace, axis: usize) -> bool {
         let f = self.material.friction();
         let e = &mut w.engine;
-        let k = e.set.len();
         let (ux, uy) = e.axis(axis);
-        for (r, &(j, sg)) in e.rhs.iter_mut().zip(&e.set) {
-            let eq = ux * e.eqx[j] + uy * e.eqy[j];
-            let ep = ux * e.epx[j] + uy * e.epy[j];
-            *r = -(eq - sg * f * ep);
+        let before = w.inverse.rebuilds;
+        if !w.inverse.update_to(&self.ops, f, &e.dirs) {
+            return false;
         }
-        let before = w.reduced.factorisations;
-        w.reduced
-            .solve(&self.ops, f, &e.set, &e.rhs[..k], &mut e.x[..k]);
-        self.increment.factorisations += w.reduced.factorisations - before;
+        self.increment.factorisations += w.inverse.rebuilds - before;
         e.full.fill(0.0);
-        for (&v, &(j, _)) in e.x[..k].iter().zip(&e.set) {
-            if !v.is_finite() {
-                return false;
-            }
-            e.full[j] = v;
-        }
-        self.ops
-            .apply_both(&e.full, &mut e.hbuf, &mut e.dbuf, &mut w.fft);
-        let (g, hp, hq) = if axis == 0 {
-            (&mut e.gx, &mut e.hpx, &mut e.hqx)
-        } else {
-            (&mut e.gy, &mut e.hpy, &mut e.hqy)
+        let (epx, epy, eqx, eqy) = (&e.epx, &e.epy, &e.eqx, &e.eqy);
+        let rhs = |j: usize, sg: f64| {
+            let eq = ux * eqx[j] + uy * eqy[j];
+            let ep = ux * epx[j] + uy * epy[j];
+            -(eq - sg * f * ep)
         };
-        g.copy_from_slice(&e.full);
-        hp.copy_from_slice(&e.hbuf);
-        for (o, &d) in hq.iter_mut().zip(&e.dbuf) {
-            *o = -d;
+        if !w.inverse.solve(rhs, &mut e.full) {
+            return false;
         }
-        e.totals(axis);
+        e.fill_axis(&self.ops, &mut w.fft, axis);
         true
     }
 
@@ -634,7 +686,12 @@ impl Contact {
         if !self.axis_response(w, 1) {
             return None;
         }
-        w.engine.have2 = true;
+        let e = &mut w.engine;
+        e.have2 = true;
+        if let Some(slot) = e.slot {
+            e.cache
+                .add_second(slot, &e.dirs, e.set.iter().map(|&(j, _)| e.gy[j]));
+        }
         Some((a1, a2))
     }
 
@@ -754,6 +811,12 @@ impl Contact {
     }
 
     /// Move by `t` of the segment parameter with the cached set, to `load`.
+    ///
+    /// The residual tractions move with the slip rates; `p` and `q` are
+    /// then the elastic part at `load` plus the residual part, so they never
+    /// drift from the load. One pass over the nodes does both and the
+    /// dissipation `f/2 sum p |dg| dtheta`, with `p` averaged over the
+    /// sub-segment (exact: `p` is linear and `dg` uniform on it).
     fn move_along(&mut self, w: &mut Workspace, t: f64, dx: f64, dy: f64, load: LoadPoint) {
         let f = self.material.friction();
         let n = self.nodes();
@@ -764,48 +827,70 @@ impl Contact {
             return;
         }
         let (tx, ty) = (t * dx, t * dy);
-        let slipping = !e.set.is_empty();
-        let mut before = 0.0;
-        if slipping {
-            let inc = &mut self.increment;
-            for (((g, fwd), bwd), r) in self
-                .slip
-                .iter_mut()
-                .zip(inc.forward.iter_mut())
-                .zip(inc.backward.iter_mut())
-                .zip(&e.rg)
-            {
-                let dg = t * r;
-                *g += dg;
-                *fwd += dg.max(0.0);
-                *bwd += (-dg).max(0.0);
+        let loads = self.material.to_loads(load);
+        let two_pi = 2.0 * PI;
+        let pr = self.material.beta() * loads.radial / two_pi;
+        let qr = self.material.alpha() * loads.radial / two_pi;
+        let qt = loads.torque / two_pi;
+        if e.set.is_empty() {
+            // Stick only: the residual part does not change.
+            for j in 0..n {
+                self.pressure[j] = 1.0 - pr * self.sin[j] + self.residual_pressure[j];
+                self.shear[j] = -qt - qr * self.cos[j] + self.residual_shear[j];
             }
-            inc.slipped = true;
-            before = weighted_abs(&self.pressure, &e.rg, t);
-            for ((r, hx), hy) in self.residual_pressure.iter_mut().zip(&e.hpx).zip(&e.hpy) {
-                *r += tx * hx + ty * hy;
-            }
-            for ((r, hx), hy) in self.residual_shear.iter_mut().zip(&e.hqx).zip(&e.hqy) {
-                *r += tx * hx + ty * hy;
+            return;
+        }
+        let inc = &mut self.increment;
+        for (((g, fwd), bwd), r) in self
+            .slip
+            .iter_mut()
+            .zip(inc.forward.iter_mut())
+            .zip(inc.backward.iter_mut())
+            .zip(&e.rg)
+        {
+            let dg = t * r;
+            *g += dg;
+            *fwd += dg.max(0.0);
+            *bwd += (-dg).max(0.0);
+        }
+        inc.slipped = true;
+        for ((r, hx), hy) in self.residual_pressure.iter_mut().zip(&e.hpx).zip(&e.hpy) {
+            *r += tx * hx + ty * hy;
+        }
+        for ((r, hx), hy) in self.residual_shear.iter_mut().zip(&e.hqx).zip(&e.hqy) {
+            *r += tx * hx + ty * hy;
+        }
+        for ((q, c), r) in self
+            .shear
+            .iter_mut()
+            .zip(&self.cos)
+            .zip(&self.residual_shear)
+        {
+            *q = -qt - qr * c + r;
+        }
+        // p, and sum |dg| (p before + p after), in four lanes.
+        let mut acc = [0.0f64; 4];
+        let chunks = self
+            .pressure
+            .chunks_exact_mut(4)
+            .zip(self.sin.chunks_exact(4))
+            .zip(self.residual_pressure.chunks_exact(4))
+            .zip(e.rg.chunks_exact(4));
+        for (((p, sn), rp), rg) in chunks {
+            for i in 0..4 {
+                let p_new = 1.0 - pr * sn[i] + rp[i];
+                acc[i] += (t * rg[i]).abs() * (p[i] + p_new);
+                p[i] = p_new;
             }
         }
-        e.since_refresh += 1;
-        if e.since_refresh >= 64 {
-            e.since_refresh = 0;
-            self.refresh_tractions();
-        } else {
-            for ((p, ax), ay) in self.pressure.iter_mut().zip(&e.tpx).zip(&e.tpy) {
-                *p += tx * ax + ty * ay;
-            }
-            for ((q, bx), by) in self.shear.iter_mut().zip(&e.tqx).zip(&e.tqy) {
-                *q += tx * bx + ty * by;
-            }
+        for j in n - n % 4..n {
+            let p_new = 1.0 - pr * self.sin[j] + self.residual_pressure[j];
+            acc[0] += (t * e.rg[j]).abs() * (self.pressure[j] + p_new);
+            self.pressure[j] = p_new;
         }
-        if slipping {
-            let after = weighted_abs(&self.pressure[..n], &e.rg[..n], t);
-            let dtheta = 2.0 * PI / n as f64;
-            self.increment.dissipation += 0.5 * f * 0.5 * (before + after) * dtheta;
-        }
+        let sum = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+        let dtheta = 2.0 * PI / n as f64;
+        self.increment.dissipation += 0.5 * f * 0.5 * sum * dtheta;
     }
 
     /// `p` and `q` at the current load from the elastic and residual parts.
@@ -938,12 +1023,12 @@ impl Contact {
         target: LoadPoint,
         s: f64,
         w: &mut Workspace,
-    ) -> Result<(), ContactError> {
+    ) -> Result<Advanced, ContactError> {
         let n = self.nodes();
         let f = self.material.friction();
         self.increment.fallback = true;
         match self.solve_with(target, f, n, w) {
-            Ok(trial) => {
+            Ok(Solved::Trial(trial)) => {
                 self.increment.dissipation += trial.dissipation;
                 self.increment.segments += 1;
                 self.increment.factorisations += trial.factorisations;
@@ -957,9 +1042,9 @@ impl Contact {
                 // `commit` without the invalidation of the (taken) workspace.
                 self.commit(trial);
                 self.increment.reached = 1.0;
-                Ok(())
+                Ok(Advanced::Reached)
             }
-            Err(ContactError::GrossSlip { .. }) => {
+            Ok(Solved::Ended(ContactEnd::GrossSlip { .. })) => {
                 // Only on the torque limit; otherwise the trial set had not
                 // settled.
                 let (y0, y1) = (self.load.y(), target.y());
@@ -968,7 +1053,7 @@ impl Contact {
                     let r = (limit - y0) / (y1 - y0);
                     let load = on_torque_limit(self.load.lerp(target, r), y1 - y0);
                     self.increment.reached = s + (1.0 - s) * r;
-                    Err(ContactError::GrossSlip { load })
+                    Ok(Advanced::Ended(ContactEnd::GrossSlip { load }))
                 } else {
                     self.increment.reached = s;
                     Err(ContactError::NotSettled {
@@ -976,6 +1061,10 @@ impl Contact {
                         iterations: 0,
                     })
                 }
+            }
+            Ok(Solved::Ended(end)) => {
+                self.increment.reached = s;
+                Ok(Advanced::Ended(end))
             }
             Err(e) => {
                 self.increment.reached = s;

@@ -1,11 +1,13 @@
 //! The contact: residual-traction operators and the incremental frictional
 //! solver. Knows nothing of paths, cycles or any user interface.
 
+mod cache;
 mod increment;
+mod inverse;
 mod operators;
 mod reduced;
 mod solver;
 
 pub use increment::{ContactEvent, ContactEventKind, Increment};
 pub use operators::Operators;
-pub use solver::{Contact, ContactError, SlipDirection, Trial};
+pub use solver::{Advanced, Contact, ContactEnd, ContactError, SlipDirection, Solved, Trial};

@@ -11,6 +11,7 @@
 use std::f64::consts::PI;
 
 use super::increment::{Engine, Increment};
+use super::inverse::SetInverse;
 use super::operators::{FftScratch, Operators};
 use super::reduced::ReducedSolver;
 use crate::model::{LoadPoint, Material};
@@ -65,23 +66,18 @@ impl SlipDirection {
     }
 }
 
-/// Why an increment has no frictional solution. Both are physical end
-/// states, not numerical failures.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ContactError {
+/// A physical end of the contact problem within an increment: the load
+/// cannot go further along its path. These are outcomes of the physics
+/// (the stepper reports them as [`crate::Outcome`]s), not failures.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ContactEnd {
     /// `|y|` reached `2 pi`: the friction torque cannot grow further and the
-    /// whole interface slides (model.md section 2). The stepper reports it
-    /// as an outcome, not a failure.
-    #[error("gross slip at load point {load}: the whole interface slides")]
+    /// whole interface slides (model.md section 2).
     GrossSlip {
         /// Where it happened.
         load: LoadPoint,
     },
-    /// The pressure reached zero at a node. The stepper reports it as an
-    /// outcome, not a failure.
-    #[error(
-        "separation at load point {load}: p = {pressure:.4} < 0 at theta = {theta:.4} rad (node {node})"
-    )]
+    /// The pressure reached zero at a node.
     Separation {
         /// Where it happened.
         load: LoadPoint,
@@ -92,7 +88,69 @@ pub enum ContactError {
         /// Its pressure (at most 0).
         pressure: f64,
     },
-    /// A numerical failure: the active set did not settle.
+}
+
+impl std::fmt::Display for ContactEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ContactEnd::GrossSlip { load } => {
+                write!(f, "gross slip at load point {load}: the whole interface slides")
+            }
+            ContactEnd::Separation {
+                load,
+                node,
+                theta,
+                pressure,
+            } => write!(
+                f,
+                "separation at load point {load}: p = {pressure:.4} at theta = {theta:.4} rad (node {node})"
+            ),
+        }
+    }
+}
+
+/// What [`Contact::advance`] reached.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Advanced {
+    /// The target load point, with the friction law satisfied on the way.
+    Reached,
+    /// A physical end on the way; the contact is left at that point
+    /// ([`Increment::reached`] tells how far along the segment).
+    Ended(ContactEnd),
+}
+
+impl Advanced {
+    /// Whether the target was reached.
+    pub fn is_reached(&self) -> bool {
+        matches!(self, Advanced::Reached)
+    }
+}
+
+/// What [`Contact::solve`] found for one finite increment.
+#[derive(Debug, Clone)]
+pub enum Solved {
+    /// The increment's solution, to [`Contact::commit`].
+    Trial(Trial),
+    /// A physical end: the increment has no frictional solution.
+    Ended(ContactEnd),
+}
+
+impl Solved {
+    /// The trial, or `None` at a physical end.
+    pub fn trial(self) -> Option<Trial> {
+        match self {
+            Solved::Trial(t) => Some(t),
+            Solved::Ended(_) => None,
+        }
+    }
+}
+
+/// A numerical failure of the contact solver (the physical ends are
+/// [`ContactEnd`]s, not errors).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ContactError {
+    /// The active set did not settle.
     #[error("active set did not settle at load point {load} after {iterations} iterations")]
     NotSettled {
         /// Where it happened.
@@ -171,6 +229,8 @@ pub(super) struct Workspace {
     relief: Vec<f64>,
     pub(super) fft: FftScratch,
     pub(super) reduced: ReducedSolver,
+    /// The inverse of the exact increment's reduced matrix.
+    pub(super) inverse: SetInverse,
     /// The exact path-following increment's cached responses and scratch.
     pub(super) engine: Engine,
 }
@@ -187,6 +247,7 @@ impl Workspace {
             relief: vec![0.0; n],
             fft: FftScratch::default(),
             reduced: ReducedSolver::new(n),
+            inverse: SetInverse::new(n),
             engine: Engine::new(n),
         }
     }
@@ -345,7 +406,7 @@ impl Contact {
     }
 
     /// Solve the increment to `load` without committing it.
-    pub fn solve(&mut self, load: LoadPoint) -> Result<Trial, ContactError> {
+    pub fn solve(&mut self, load: LoadPoint) -> Result<Solved, ContactError> {
         let n = self.nodes();
         let f = self.material.friction();
         let mut w = self.work.take().unwrap_or_else(|| Workspace::new(n));
@@ -360,10 +421,10 @@ impl Contact {
         f: f64,
         n: usize,
         w: &mut Workspace,
-    ) -> Result<Trial, ContactError> {
+    ) -> Result<Solved, ContactError> {
         self.tractions_into(load, &mut w.p0, &mut w.q0);
         if let Some((node, pressure)) = most_negative(&w.p0) {
-            return Err(self.separation(load, node, pressure));
+            return Ok(Solved::Ended(self.separation(load, node, pressure)));
         }
 
         // Warm start: last increment's slip set plus every predictor violation.
@@ -388,7 +449,7 @@ impl Contact {
                     .map(|j| (j, dirs[j].sign())),
             );
             if w.set.len() == n {
-                return Err(ContactError::GrossSlip { load });
+                return Ok(Solved::Ended(ContactEnd::GrossSlip { load }));
             }
             dg.fill(0.0);
             p.copy_from_slice(&w.p0);
@@ -437,7 +498,7 @@ impl Contact {
             }
             if !changed {
                 if let Some((node, pressure)) = most_negative(&p) {
-                    return Err(self.separation(load, node, pressure));
+                    return Ok(Solved::Ended(self.separation(load, node, pressure)));
                 }
                 let directions: Vec<SlipDirection> = (0..n)
                     .map(|j| {
@@ -457,7 +518,7 @@ impl Contact {
                     .map(|j| 0.5 * f * 0.5 * (p[j] + self.pressure[j]) * dg[j].abs())
                     .sum::<f64>()
                     * dtheta;
-                return Ok(Trial {
+                return Ok(Solved::Trial(Trial {
                     load,
                     slip_increment: dg,
                     pressure: p,
@@ -466,7 +527,7 @@ impl Contact {
                     dissipation,
                     iterations: iteration,
                     factorisations,
-                });
+                }));
             }
             // Most increments settle in one to three passes; only a longer
             // search is watched for revisiting a slip set (a cycle).
@@ -497,8 +558,8 @@ impl Contact {
         }
     }
 
-    pub(super) fn separation(&self, load: LoadPoint, node: usize, pressure: f64) -> ContactError {
-        ContactError::Separation {
+    pub(super) fn separation(&self, load: LoadPoint, node: usize, pressure: f64) -> ContactEnd {
+        ContactEnd::Separation {
             load,
             node,
             theta: 2.0 * PI * node as f64 / self.nodes() as f64,

@@ -11,7 +11,9 @@ use super::driver::{drive, Control, Goal, Silent};
 use super::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
 use super::verdict::{trend, Trend};
 use super::zones::{slip_zones, zone_changes, ZoneChange};
-use crate::contact::{Contact, ContactError, ContactEventKind, Operators, SlipDirection};
+use crate::contact::{
+    Advanced, Contact, ContactEnd, ContactError, ContactEventKind, Operators, SlipDirection,
+};
 use crate::model::path::{entry_waypoints, segments, Initial, Segment};
 use crate::model::{Cycle, Discretisation, LoadPoint, Material};
 
@@ -534,8 +536,8 @@ impl Stepper {
         }
         let events_before = report.events.len();
         match self.advance(0.0, 1.0, 0, &mut report) {
-            Ok(()) => {}
-            Err((ContactError::NotSettled { load, .. }, _)) => {
+            Ok(None) => {}
+            Err(ContactError::NotSettled { load, .. }) => {
                 return Err(StepError::NotSettled {
                     load,
                     phase: self.phase_label(),
@@ -543,11 +545,11 @@ impl Stepper {
                 })
             }
             // Gross slip and separation are outcomes, not failures.
-            Err((ContactError::GrossSlip { load }, at)) => {
+            Ok(Some((ContactEnd::GrossSlip { load }, at))) => {
                 self.end(Terminal::GrossSlip { load }, at, &mut report);
                 return Ok(report);
             }
-            Err((ContactError::Separation { load, theta, .. }, at)) => {
+            Ok(Some((ContactEnd::Separation { load, theta, .. }, at))) => {
                 self.end(Terminal::Separation { load, theta }, at, &mut report);
                 return Ok(report);
             }
@@ -579,29 +581,32 @@ impl Stepper {
     /// Advance the increment from parameter `s0` to `s1`. The contact
     /// locates every event on the way exactly (entry into slip, advancing
     /// stick, gross slip, separation); only where its rate problem does not
-    /// settle is the rest of the increment bisected, as a last resort. On an
-    /// error, the parameter the contact reached comes with it.
+    /// settle is the rest of the increment bisected, as a last resort. A
+    /// physical end comes back with the parameter where it happened.
     fn advance(
         &mut self,
         s0: f64,
         s1: f64,
         fail_depth: usize,
         report: &mut StepReport,
-    ) -> Result<(), (ContactError, f64)> {
+    ) -> Result<Option<(ContactEnd, f64)>, ContactError> {
         let target = self.point(s1);
         let result = self.contact.advance(target);
         let reached = s0 + self.contact.last_increment().reached * (s1 - s0);
         self.record(s0, s1, report);
         match result {
-            Ok(()) => Ok(()),
+            Ok(Advanced::Reached) => Ok(None),
+            Ok(Advanced::Ended(end)) => Ok(Some((end, reached))),
             Err(ContactError::NotSettled { .. })
                 if fail_depth < self.options.failure_bisections && reached < s1 =>
             {
                 let mid = 0.5 * (reached + s1);
-                self.advance(reached, mid, fail_depth + 1, report)?;
+                if let Some(end) = self.advance(reached, mid, fail_depth + 1, report)? {
+                    return Ok(Some(end));
+                }
                 self.advance(mid, s1, fail_depth + 1, report)
             }
-            Err(e) => Err((e, reached)),
+            Err(e) => Err(e),
         }
     }
 

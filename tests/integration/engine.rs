@@ -7,8 +7,8 @@ use std::sync::Arc;
 
 use shakedown::contact::{ContactEventKind, Increment};
 use shakedown::{
-    Contact, ContactError, Cycle, Discretisation, Initial, LoadPoint, Material, Operators, Plane,
-    SteadyState, StepOptions, Stepper,
+    Advanced, Contact, ContactEnd, Cycle, Discretisation, Initial, LoadPoint, Material, Operators,
+    Plane, SteadyState, StepOptions, Stepper,
 };
 
 fn contact(n: usize) -> Contact {
@@ -69,7 +69,7 @@ fn entry_into_slip_is_located_to_round_off_on_the_diamond() {
         if to.y().abs() >= 2.0 * PI {
             continue;
         }
-        c.advance(to).unwrap();
+        assert_eq!(c.advance(to), Ok(Advanced::Reached));
         let (fraction, load, nodes) =
             first_event(c.last_increment(), ContactEventKind::SlipEntry).expect("slip entry");
         assert!(!nodes.is_empty());
@@ -88,7 +88,7 @@ fn entry_exactly_on_the_diamond_where_a_node_sits_at_the_critical_angle() {
     // of alpha cos + f beta sin. For f -> 0 (alpha only) theta* = 0, a node.
     let m = Material::new(1e-9, 0.3, Plane::Strain).unwrap();
     let mut c = Contact::new(m, Arc::new(Operators::new(64)));
-    c.advance(LoadPoint::new(-9.0, 0.0)).unwrap();
+    assert_eq!(c.advance(LoadPoint::new(-9.0, 0.0)), Ok(Advanced::Reached));
     let (_, load, nodes) =
         first_event(c.last_increment(), ContactEventKind::SlipEntry).expect("slip entry");
     // theta = 0 and pi, on either side of the friction cone.
@@ -105,7 +105,7 @@ fn gross_slip_is_at_the_torque_limit_exactly() {
         let mut c = contact(64);
         let to = LoadPoint::new(x, y);
         match c.advance(to) {
-            Err(ContactError::GrossSlip { load }) => {
+            Ok(Advanced::Ended(ContactEnd::GrossSlip { load })) => {
                 assert!(load.y().abs() > 2.0 * PI, "{load}");
                 assert!(load.y().abs() - 2.0 * PI < 1e-14, "{load}");
                 // On the segment from the origin.
@@ -126,7 +126,7 @@ fn gross_slip_is_at_the_torque_limit_exactly() {
 /// A contact with a partial slip zone, reached along a straight path.
 fn partially_slipping(n: usize) -> Contact {
     let mut c = contact(n);
-    c.advance(LoadPoint::new(2.0, 5.0)).unwrap();
+    assert_eq!(c.advance(LoadPoint::new(2.0, 5.0)), Ok(Advanced::Reached));
     let slipping = c.directions().iter().filter(|d| d.is_slipping()).count();
     assert!(slipping > 4 && slipping < n, "{slipping}");
     c
@@ -142,14 +142,14 @@ fn the_cheap_path_equals_a_full_solve() {
     for (dx, dy) in [(0.0, 1e-3), (1e-3, 1e-3), (-1e-3, 5e-4), (0.0, -1e-3)] {
         let to = LoadPoint::new(c.load().x() + dx, c.load().y() + dy);
         let mut fast = c.clone();
-        fast.advance(to).unwrap();
+        assert_eq!(fast.advance(to), Ok(Advanced::Reached));
         let inc = fast.last_increment();
         if !inc.events.is_empty() || inc.segments != 1 {
             continue;
         }
         compared += 1;
         let mut full = c.clone();
-        let trial = full.solve(to).unwrap();
+        let trial = full.solve(to).unwrap().trial().expect("no physical end");
         let dissipation = trial.dissipation;
         full.commit(trial);
         for j in 0..n {
@@ -175,7 +175,7 @@ fn an_event_does_not_depend_on_how_the_segment_is_cut() {
     let c = partially_slipping(n);
     let to = LoadPoint::new(2.6, 4.3);
     let mut one = c.clone();
-    one.advance(to).unwrap();
+    assert_eq!(one.advance(to), Ok(Advanced::Reached));
     let events = one.last_increment().events.clone();
     assert!(!events.is_empty(), "the turn must cause an event");
     let stick = events
@@ -187,7 +187,7 @@ fn an_event_does_not_depend_on_how_the_segment_is_cut() {
     for cut in [0.3, 0.71] {
         let mid = c.load().lerp(to, cut);
         let mut two = c.clone();
-        two.advance(mid).unwrap();
+        assert_eq!(two.advance(mid), Ok(Advanced::Reached));
         let mut found: Vec<(LoadPoint, Vec<usize>)> = two
             .last_increment()
             .events
@@ -195,7 +195,7 @@ fn an_event_does_not_depend_on_how_the_segment_is_cut() {
             .filter(|e| e.fraction > 0.0)
             .map(|e| (e.load, e.nodes.clone()))
             .collect();
-        two.advance(to).unwrap();
+        assert_eq!(two.advance(to), Ok(Advanced::Reached));
         found.extend(
             two.last_increment()
                 .events
@@ -224,7 +224,7 @@ fn advancing_stick_is_where_the_slip_rate_vanishes() {
     let c = partially_slipping(n);
     let to = LoadPoint::new(2.6, 4.3);
     let mut one = c.clone();
-    one.advance(to).unwrap();
+    assert_eq!(one.advance(to), Ok(Advanced::Reached));
     let ev = one
         .last_increment()
         .events
@@ -233,11 +233,16 @@ fn advancing_stick_is_where_the_slip_rate_vanishes() {
         .cloned()
         .unwrap();
     let mut at = c.clone();
-    at.advance(ev.load).unwrap();
+    assert_eq!(at.advance(ev.load), Ok(Advanced::Reached));
     let step = c.load().lerp(to, 1e-6);
     let dir = LoadPoint::new(step.x() - c.load().x(), step.y() - c.load().y());
     let beyond = LoadPoint::new(ev.load.x() + dir.x(), ev.load.y() + dir.y());
-    let trial = at.clone().solve(beyond).unwrap();
+    let trial = at
+        .clone()
+        .solve(beyond)
+        .unwrap()
+        .trial()
+        .expect("no physical end");
     for &j in &ev.nodes {
         assert_eq!(trial.slip_increment[j], 0.0, "node {j} still slips");
     }
@@ -348,7 +353,7 @@ fn dissipation_is_half_q_dot_dg() {
         let to = LoadPoint::new(2.0 + 0.002 * i as f64, 5.0 + 0.001 * i as f64);
         let q0 = d.shear().to_vec();
         let g0 = d.slip().to_vec();
-        d.advance(to).unwrap();
+        assert_eq!(d.advance(to), Ok(Advanced::Reached));
         let inc = d.last_increment();
         if inc.segments != 1 || !inc.slipped {
             continue;

@@ -40,7 +40,9 @@ fn slips_on_the_way_to(to: LoadPoint) -> bool {
     for i in 1..=steps {
         let trial = c
             .solve(LoadPoint::ORIGIN.lerp(to, i as f64 / steps as f64))
-            .unwrap();
+            .unwrap()
+            .trial()
+            .expect("no physical end");
         let slipped = trial.slip_increment.iter().any(|&d| d != 0.0);
         c.commit(trial);
         if slipped {
@@ -102,15 +104,16 @@ fn separation_is_a_typed_outcome_where_the_pressure_vanishes() {
     let mut outcome = None;
     for i in 1..=400 {
         match c.solve(LoadPoint::new(1.2 * x_sep * i as f64 / 400.0, 0.0)) {
-            Ok(t) => c.commit(t),
-            Err(e) => {
+            Ok(shakedown::contact::Solved::Trial(t)) => c.commit(t),
+            Ok(shakedown::contact::Solved::Ended(e)) => {
                 outcome = Some(e);
                 break;
             }
+            Err(e) => panic!("{e}"),
         }
     }
     match outcome {
-        Some(shakedown::ContactError::Separation { load, theta, .. }) => {
+        Some(shakedown::ContactEnd::Separation { load, theta, .. }) => {
             // Slip changes p, so the onset is only near the elastic value;
             // the pressure vanishes first near theta = pi/2 (where sin > 0).
             assert!(

@@ -13,10 +13,10 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 use proptest::prelude::*;
-use shakedown::contact::Trial;
+use shakedown::contact::{Solved, Trial};
 use shakedown::{
-    Contact, ContactError, Cycle, Discretisation, LoadPoint, Material, Operators, Plane,
-    SteadyState, StepOptions, Stepper,
+    Contact, ContactEnd, ContactError, Cycle, Discretisation, LoadPoint, Material, Operators,
+    Plane, SteadyState, StepOptions, Stepper,
 };
 
 /// Relative tolerance of the friction law, as the issue states it.
@@ -125,6 +125,22 @@ fn check_trial(c: &Contact, trial: &Trial) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// Why a walk stopped: a physical end, or a numerical failure.
+#[derive(Debug)]
+enum Stop {
+    End(ContactEnd),
+    Failed(ContactError),
+}
+
+impl std::fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Stop::End(end) => write!(f, "{end}"),
+            Stop::Failed(e) => write!(f, "{e}"),
+        }
+    }
+}
+
 /// Solve one increment, bisecting (up to 12 times, as the stepper does)
 /// where the active set does not settle. Committed increments are checked.
 fn advance(
@@ -132,9 +148,10 @@ fn advance(
     to: LoadPoint,
     depth: usize,
     solved: &mut usize,
-) -> Result<Result<(), ContactError>, TestCaseError> {
+) -> Result<Result<(), Stop>, TestCaseError> {
     match c.solve(to) {
-        Ok(trial) => {
+        Ok(Solved::Ended(end)) => Ok(Err(Stop::End(end))),
+        Ok(Solved::Trial(trial)) => {
             check_trial(c, &trial)?;
             let before = c.slip().to_vec();
             let dg = trial.slip_increment.clone();
@@ -159,7 +176,7 @@ fn advance(
                 e => Ok(e),
             }
         }
-        Err(e) => Ok(Err(e)),
+        Err(e) => Ok(Err(Stop::Failed(e))),
     }
 }
 
@@ -168,7 +185,7 @@ fn walk(
     n: usize,
     points: &[LoadPoint],
     step: f64,
-) -> Result<(Contact, Result<(), ContactError>, usize), TestCaseError> {
+) -> Result<(Contact, Result<(), Stop>, usize), TestCaseError> {
     let mut c = Contact::new(m, Arc::new(Operators::new(n)));
     let mut solved = 0;
     for to in increments(points, step) {
@@ -198,7 +215,7 @@ proptest! {
             Ok(()) => prop_assert!(c.load().distance(*points.last().unwrap()) < 1e-12),
             // Locked-in slip shifts the pressure: separation may come
             // before x_sep, but only as the typed outcome, with p < 0.
-            Err(ContactError::Separation { pressure, load, .. }) => {
+            Err(Stop::End(ContactEnd::Separation { pressure, load, .. })) => {
                 prop_assert!(pressure < 0.0);
                 prop_assert!(load.x().abs() > 0.5 * x_separation(&m), "separation at {load}");
             }
@@ -224,12 +241,12 @@ proptest! {
         points.push(LoadPoint::new(end_x * x_separation(&m), y));
         let (c, end, _) = walk(m, n, &points, step)?;
         match end {
-            Err(ContactError::GrossSlip { load }) => {
+            Err(Stop::End(ContactEnd::GrossSlip { load })) => {
                 prop_assert!(load.y().abs() > 2.0 * PI * (1.0 - 1e-9), "gross slip at {load}");
                 // The state before it still obeyed the torque limit.
                 prop_assert!(c.load().y().abs() <= 2.0 * PI * (1.0 + 1e-9));
             }
-            Err(ContactError::Separation { pressure, .. }) => prop_assert!(pressure < 0.0),
+            Err(Stop::End(ContactEnd::Separation { pressure, .. })) => prop_assert!(pressure < 0.0),
             other => prop_assert!(false, "reached {} with {other:?}", c.load()),
         }
     }
@@ -250,12 +267,12 @@ proptest! {
         points.push(LoadPoint::new(x, end_y * 6.0));
         let (c, end, _) = walk(m, n, &points, 0.3)?;
         match end {
-            Err(ContactError::Separation { pressure, node, theta, .. }) => {
+            Err(Stop::End(ContactEnd::Separation { pressure, node, theta, .. })) => {
                 prop_assert!(pressure < 0.0);
                 prop_assert!(node < n);
                 prop_assert!((theta - 2.0 * PI * node as f64 / n as f64).abs() < 1e-12);
             }
-            Err(ContactError::GrossSlip { load }) => {
+            Err(Stop::End(ContactEnd::GrossSlip { load })) => {
                 prop_assert!(load.y().abs() > 2.0 * PI * (1.0 - 1e-9), "gross slip at {load}")
             }
             other => prop_assert!(false, "reached {} with {other:?}", c.load()),

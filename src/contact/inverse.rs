@@ -1,0 +1,448 @@
+//! The inverse of the reduced matrix `M_SS = (-|D| - f diag(s) H)_SS`, kept
+//! up to date as the slip set changes one node at a time.
+//!
+//! The exact increment ([`super::increment`]) changes the slip set at its
+//! events, nearly always by one node: a node enters slip, a slipping node
+//! sticks (advancing stick), or a node reverses its direction. Each such
+//! change of `M_SS` is a bordering or a rank-one change, so its inverse
+//! follows in `O(k^2)` (`k` the size of the set) instead of the `O(k^3)` of
+//! a new factorisation:
+//!
+//! * **a node `a` enters** with sign `s_a`: the bordered inverse, with
+//!   `v = M^-1 M_Sa`, `w = M_aS M^-1` and the Schur complement
+//!   `sigma = M_aa - M_aS v`;
+//! * **a node leaves** the set (its slip is pinned): for `B = M^-1`, the
+//!   inverse of `M` without row and column `r` is `B - B_:r B_r: / B_rr`;
+//! * **a node flips** its direction: its row gains `2 f s H_r,S`, a
+//!   Sherman–Morrison update.
+//!
+//! The inverse is rebuilt from a pivoted LU (faer) when the set changes by
+//! many nodes at once, when an update meets a small pivot, and after a
+//! number of updates proportional to `k`, so the round-off that updates
+//! accumulate stays bounded and the amortised cost stays `O(k^2)`.
+
+use super::operators::Operators;
+use super::reduced::DenseLu;
+use super::solver::SlipDirection;
+
+const NONE: usize = usize::MAX;
+
+/// A pivot (Schur complement or diagonal entry of the inverse) below this
+/// fraction of its scale makes an update unreliable: rebuild instead.
+const PIVOT_TOL: f64 = 1e-8;
+
+/// `M_SS^-1` for the current slip set, column-major with stride `N`.
+pub(crate) struct SetInverse {
+    n: usize,
+    friction: f64,
+    /// The inverse: entry `(i, j)` at `inv[j * n + i]`, positions `0..k`.
+    inv: Vec<f64>,
+    /// Node and slip sign at each position.
+    nodes: Vec<usize>,
+    signs: Vec<f64>,
+    /// Position of each node, or `NONE`.
+    pos: Vec<usize>,
+    valid: bool,
+    /// Updates since the last rebuild.
+    updates: usize,
+    /// Rebuilds from a factorisation (for the increment's statistics).
+    pub(crate) rebuilds: usize,
+    // Scratch.
+    col: Vec<f64>,
+    row: Vec<f64>,
+    v: Vec<f64>,
+    w: Vec<f64>,
+    lu: DenseLu,
+}
+
+/// `a . b` in four lanes (a single running sum would not vectorise).
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let (ac, bc) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = ac
+        .remainder()
+        .iter()
+        .zip(bc.remainder())
+        .map(|(x, y)| x * y)
+        .sum();
+    for (x, y) in ac.zip(bc) {
+        for i in 0..4 {
+            acc[i] += x[i] * y[i];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
+impl Clone for SetInverse {
+    fn clone(&self) -> Self {
+        // A cache: a clone starts empty and rebuilds on first use.
+        SetInverse::new(self.n)
+    }
+}
+
+impl SetInverse {
+    pub(crate) fn new(n: usize) -> Self {
+        Self {
+            n,
+            friction: f64::NAN,
+            inv: vec![0.0; n * n],
+            nodes: Vec::with_capacity(n),
+            signs: Vec::with_capacity(n),
+            pos: vec![NONE; n],
+            valid: false,
+            updates: 0,
+            rebuilds: 0,
+            col: vec![0.0; n],
+            row: vec![0.0; n],
+            v: vec![0.0; n],
+            w: vec![0.0; n],
+            lu: DenseLu::new(n),
+        }
+    }
+
+    /// Size `k` of the set.
+    pub(crate) fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// `M[row, col]` for a row with slip sign `sign`.
+    #[inline]
+    fn entry(ops: &Operators, friction: f64, row: usize, sign: f64, col: usize) -> f64 {
+        -ops.abs_derivative(row, col) - friction * sign * ops.hilbert(row, col)
+    }
+
+    /// Make the inverse that of the slip set `target`; false if `M_SS` is
+    /// singular to working precision (the caller then has no responses).
+    pub(crate) fn update_to(
+        &mut self,
+        ops: &Operators,
+        friction: f64,
+        target: &[SlipDirection],
+    ) -> bool {
+        if !self.valid || self.friction != friction {
+            return self.rebuild(ops, friction, target);
+        }
+        let k = self.len();
+        let mut changes = 0;
+        for (j, d) in target.iter().enumerate() {
+            let p = self.pos[j];
+            let now = if p == NONE { 0.0 } else { self.signs[p] };
+            if now != d.sign() {
+                changes += 1;
+            }
+        }
+        if changes == 0 {
+            return true;
+        }
+        // Past a quarter of the set (or many updates since the last
+        // factorisation) a rebuild costs about as much and is cleaner.
+        if 4 * changes > k.max(8) || self.updates + changes > k.max(16) {
+            return self.rebuild(ops, friction, target);
+        }
+        // Leaves and flips first (the set shrinks), then entries.
+        for (j, d) in target.iter().enumerate() {
+            let p = self.pos[j];
+            if p == NONE {
+                continue;
+            }
+            let ok = if !d.is_slipping() {
+                self.remove(p)
+            } else if d.sign() != self.signs[p] {
+                self.flip(ops, p)
+            } else {
+                true
+            };
+            if !ok {
+                return self.rebuild(ops, friction, target);
+            }
+        }
+        for (j, d) in target.iter().enumerate() {
+            if d.is_slipping() && self.pos[j] == NONE && !self.add(ops, j, d.sign()) {
+                return self.rebuild(ops, friction, target);
+            }
+        }
+        self.updates += changes;
+        true
+    }
+
+    /// A fresh inverse of `M_SS` from a pivoted LU.
+    fn rebuild(&mut self, ops: &Operators, friction: f64, target: &[SlipDirection]) -> bool {
+        let n = self.n;
+        for &node in &self.nodes {
+            self.pos[node] = NONE;
+        }
+        self.nodes.clear();
+        self.signs.clear();
+        for (j, d) in target.iter().enumerate() {
+            if d.is_slipping() {
+                self.pos[j] = self.nodes.len();
+                self.nodes.push(j);
+                self.signs.push(d.sign());
+            }
+        }
+        self.friction = friction;
+        self.updates = 0;
+        self.rebuilds += 1;
+        self.valid = false;
+        let k = self.len();
+        if k == 0 {
+            self.valid = true;
+            return true;
+        }
+        // Assemble M_SS column-major (k x k) and factorise it.
+        for (b, &col) in self.nodes.iter().enumerate() {
+            let hcol = ops.hilbert_col(col);
+            let dcol = ops.abs_derivative_col(col);
+            let out = &mut self.lu.lu[b * k..(b + 1) * k];
+            for ((o, &row), &sign) in out.iter_mut().zip(&self.nodes).zip(&self.signs) {
+                *o = -dcol[row] - friction * sign * hcol[row];
+            }
+        }
+        self.lu.factorise(k);
+        // Columns of the inverse: the solves against unit vectors.
+        for c in 0..k {
+            let x = &mut self.inv[c * n..c * n + k];
+            x.fill(0.0);
+            x[c] = 1.0;
+            self.lu.solve(x);
+            if x.iter().any(|v| !v.is_finite()) {
+                return false;
+            }
+        }
+        self.valid = true;
+        true
+    }
+
+    /// Node `a` enters with sign `sign`: the bordered inverse.
+    fn add(&mut self, ops: &Operators, a: usize, sign: f64) -> bool {
+        let (n, k, f) = (self.n, self.len(), self.friction);
+        // Column M_Sa and row M_aS (H is odd and |D| even in theta, so the
+        // row is read from column a).
+        let hcol = ops.hilbert_col(a);
+        let dcol = ops.abs_derivative_col(a);
+        for i in 0..k {
+            let node = self.nodes[i];
+            self.col[i] = -dcol[node] - f * self.signs[i] * hcol[node];
+            self.row[i] = -dcol[node] + f * sign * hcol[node];
+        }
+        let d0 = Self::entry(ops, f, a, sign, a);
+        // v = B c, w^T = r^T B.
+        let v = &mut self.v[..k];
+        v.fill(0.0);
+        let w = &mut self.w[..k];
+        for (j, wj) in w.iter_mut().enumerate() {
+            let colj = &self.inv[j * n..j * n + k];
+            let cj = self.col[j];
+            for (vi, &bij) in v.iter_mut().zip(colj) {
+                *vi += bij * cj;
+            }
+            *wj = dot(&self.row[..k], colj);
+        }
+        let rv = dot(&self.row[..k], v);
+        let sigma = d0 - rv;
+        let scale = d0.abs().max(rv.abs());
+        if !sigma.is_finite() || sigma.abs() <= PIVOT_TOL * scale {
+            return false;
+        }
+        let inv_sigma = 1.0 / sigma;
+        for (j, &wj) in w.iter().enumerate() {
+            let wj = wj * inv_sigma;
+            let colj = &mut self.inv[j * n..j * n + k];
+            for (bij, &vi) in colj.iter_mut().zip(v.iter()) {
+                *bij += vi * wj;
+            }
+            self.inv[j * n + k] = -wj;
+        }
+        for (i, &vi) in v.iter().enumerate() {
+            self.inv[k * n + i] = -vi * inv_sigma;
+        }
+        self.inv[k * n + k] = inv_sigma;
+        self.pos[a] = k;
+        self.nodes.push(a);
+        self.signs.push(sign);
+        true
+    }
+
+    /// The node at position `p` leaves the set.
+    fn remove(&mut self, p: usize) -> bool {
+        let (n, k) = (self.n, self.len());
+        let brr = self.inv[p * n + p];
+        let scale = self.inv[p * n..p * n + k]
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        if !brr.is_finite() || brr.abs() <= PIVOT_TOL * scale {
+            return false;
+        }
+        // Column r (v) and row r (w) of B, then B -= v w^T / B_rr.
+        for i in 0..k {
+            self.v[i] = self.inv[p * n + i];
+            self.w[i] = self.inv[i * n + p] / brr;
+        }
+        for j in 0..k {
+            let wj = self.w[j];
+            if wj != 0.0 {
+                let colj = &mut self.inv[j * n..j * n + k];
+                for (bij, &vi) in colj.iter_mut().zip(&self.v[..k]) {
+                    *bij -= vi * wj;
+                }
+            }
+        }
+        // Move the last position into p.
+        let removed = self.nodes[p];
+        self.pos[removed] = NONE;
+        let last = k - 1;
+        if p != last {
+            for i in 0..k {
+                self.inv[p * n + i] = self.inv[last * n + i];
+            }
+            for j in 0..k {
+                self.inv[j * n + p] = self.inv[j * n + last];
+            }
+            self.inv[p * n + p] = self.inv[last * n + last];
+            let moved = self.nodes[last];
+            self.pos[moved] = p;
+            self.nodes[p] = moved;
+            self.signs[p] = self.signs[last];
+        }
+        self.nodes.pop();
+        self.signs.pop();
+        true
+    }
+
+    /// The node at position `p` reverses its direction.
+    fn flip(&mut self, ops: &Operators, p: usize) -> bool {
+        let (n, k, f) = (self.n, self.len(), self.friction);
+        let node = self.nodes[p];
+        let sign = self.signs[p];
+        // Row p gains delta = 2 f s H[node, S]; H[node, c] = -H[c, node].
+        let hcol = ops.hilbert_col(node);
+        for i in 0..k {
+            self.row[i] = -2.0 * f * sign * hcol[self.nodes[i]];
+        }
+        // w^T = delta^T B, u = B e_p.
+        for j in 0..k {
+            let colj = &self.inv[j * n..j * n + k];
+            self.w[j] = dot(&self.row[..k], colj);
+        }
+        let denom = 1.0 + self.w[p];
+        if !denom.is_finite() || denom.abs() <= PIVOT_TOL * (1.0 + self.w[p].abs()) {
+            return false;
+        }
+        for i in 0..k {
+            self.v[i] = self.inv[p * n + i] / denom;
+        }
+        for j in 0..k {
+            let wj = self.w[j];
+            if wj != 0.0 {
+                let colj = &mut self.inv[j * n..j * n + k];
+                for (bij, &vi) in colj.iter_mut().zip(&self.v[..k]) {
+                    *bij -= vi * wj;
+                }
+            }
+        }
+        self.signs[p] = -sign;
+        true
+    }
+
+    /// `x = M_SS^-1 b` with `b` given per node by `rhs(node, sign)`; the
+    /// result goes to `out` by node (other nodes untouched).
+    pub(crate) fn solve(&mut self, rhs: impl Fn(usize, f64) -> f64, out: &mut [f64]) -> bool {
+        let (n, k) = (self.n, self.len());
+        let x = &mut self.v[..k];
+        x.fill(0.0);
+        for j in 0..k {
+            let bj = rhs(self.nodes[j], self.signs[j]);
+            if bj != 0.0 {
+                for (xi, &bij) in x.iter_mut().zip(&self.inv[j * n..j * n + k]) {
+                    *xi += bij * bj;
+                }
+            }
+        }
+        let mut finite = true;
+        for (&node, &xi) in self.nodes.iter().zip(x.iter()) {
+            finite &= xi.is_finite();
+            out[node] = xi;
+        }
+        finite
+    }
+
+    /// The set as `(node, sign)` in position order.
+    #[cfg(test)]
+    fn set(&self) -> Vec<(usize, f64)> {
+        self.nodes
+            .iter()
+            .copied()
+            .zip(self.signs.iter().copied())
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dirs(n: usize, zones: &[(usize, usize, f64)]) -> Vec<SlipDirection> {
+        let mut d = vec![SlipDirection::Stick; n];
+        for &(a, b, s) in zones {
+            for x in &mut d[a..b] {
+                *x = SlipDirection::from_sign(s);
+            }
+        }
+        d
+    }
+
+    /// `M_SS x` for the set of `inv`, against the right-hand side.
+    fn residual(ops: &Operators, f: f64, inv: &mut SetInverse, n: usize) -> f64 {
+        let rhs = |node: usize, s: f64| ((node * 37 % 11) as f64 - 5.0) / 7.0 + s;
+        let mut x = vec![0.0; n];
+        assert!(inv.solve(rhs, &mut x));
+        let set = inv.set();
+        let mut worst = 0.0f64;
+        for &(row, sign) in &set {
+            let mx: f64 = set
+                .iter()
+                .map(|&(col, _)| SetInverse::entry(ops, f, row, sign, col) * x[col])
+                .sum();
+            worst = worst.max((mx - rhs(row, sign)).abs());
+        }
+        worst
+    }
+
+    #[test]
+    fn updates_match_the_system() {
+        let n = 64;
+        let f = 0.1;
+        let ops = Operators::new(n);
+        let mut inv = SetInverse::new(n);
+        let steps: Vec<Vec<(usize, usize, f64)>> = vec![
+            vec![(10, 40, 1.0)],
+            vec![(10, 41, 1.0)],
+            vec![(12, 41, 1.0)],
+            vec![(12, 30, 1.0), (30, 42, -1.0)],
+            vec![(12, 20, 1.0), (23, 42, -1.0), (50, 51, 1.0)],
+            vec![(11, 20, 1.0), (23, 43, -1.0), (50, 52, 1.0)],
+            vec![(30, 60, -1.0)],
+            vec![],
+            vec![(0, 3, 1.0), (60, 64, 1.0)],
+        ];
+        for zones in &steps {
+            assert!(inv.update_to(&ops, f, &dirs(n, zones)));
+            let got: Vec<(usize, f64)> = {
+                let mut s = inv.set();
+                s.sort_by_key(|&(j, _)| j);
+                s
+            };
+            let want: Vec<(usize, f64)> = dirs(n, zones)
+                .iter()
+                .enumerate()
+                .filter(|(_, d)| d.is_slipping())
+                .map(|(j, d)| (j, d.sign()))
+                .collect();
+            assert_eq!(got, want);
+            let r = residual(&ops, f, &mut inv, n);
+            assert!(r < 1e-11, "residual {r} for {zones:?}");
+        }
+        assert!(inv.rebuilds < steps.len(), "small changes are updates");
+    }
+}
