@@ -272,8 +272,7 @@ impl Regime {
         // One programme after another on this thread, not on rayon's pool,
         // where a sweep's runs may be queued ahead of them.
         std::thread::spawn(move || {
-            let _alive = alive;
-            let curve = phases
+            let curve: Vec<Option<f64>> = phases
                 .iter()
                 .map(|&phase| {
                     shakedown_limit(
@@ -288,6 +287,9 @@ impl Regime {
                     .map(|l| l.load_factor)
                 })
                 .collect();
+            // Counted out before the curve arrives, so that once it has,
+            // this thread no longer counts.
+            drop(alive);
             let _ = tx.send(curve);
         });
     }
