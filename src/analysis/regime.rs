@@ -22,6 +22,22 @@ pub struct RegimeCell {
     pub dissipation: f64,
 }
 
+impl RegimeCell {
+    /// The cell of a sweep's run: its state and `W`, or a failure.
+    pub fn of_row(row: &Row) -> RegimeCell {
+        match &row.outcome {
+            Ok(s) => RegimeCell {
+                state: Some(s.state),
+                dissipation: s.dissipation,
+            },
+            Err(_) => RegimeCell {
+                state: None,
+                dissipation: f64::NAN,
+            },
+        }
+    }
+}
+
 /// The states over a `lambda x phi` grid.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RegimeMap {
@@ -91,19 +107,10 @@ impl RegimeMap {
     /// The map of a sweep's rows (use one initial path: with several, the
     /// last one at each point wins).
     pub fn from_rows(rows: &[Row]) -> RegimeMap {
-        Self::from_cells(rows.iter().map(|r| {
-            let cell = match &r.outcome {
-                Ok(s) => RegimeCell {
-                    state: Some(s.state),
-                    dissipation: s.dissipation,
-                },
-                Err(_) => RegimeCell {
-                    state: None,
-                    dissipation: f64::NAN,
-                },
-            };
-            (r.job.load_factor, r.job.phase, cell)
-        }))
+        Self::from_cells(
+            rows.iter()
+                .map(|r| (r.job.load_factor, r.job.phase, RegimeCell::of_row(r))),
+        )
     }
 
     /// The `lambda` values, ascending.

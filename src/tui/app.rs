@@ -776,33 +776,7 @@ impl App {
         };
         let (lambda, phi) = r.selected();
         let initial = r.initial().clone();
-        let c = &self.case.cycle;
-        let cycle = match Cycle::new(c.center(), lambda, c.slope(), phi) {
-            Ok(cycle) => cycle,
-            Err(e) => {
-                self.notice = Some(e.to_string());
-                return;
-            }
-        };
-        self.pause_regime();
-        self.case.cycle = cycle;
-        self.path_index = match self.paths.iter().position(|p| *p == initial) {
-            Some(i) => i,
-            None => {
-                self.paths.push(initial.clone());
-                self.paths.len() - 1
-            }
-        };
-        self.case.initial = initial;
-        self.view = View::Stepping;
-        self.running = true;
-        let what = format!(
-            "opened lambda {}, phi {}, path {}",
-            format_load_factor(lambda),
-            format_phase(phi),
-            self.case.initial.name()
-        );
-        self.restart(&what);
+        self.open_case(lambda, phi, initial);
     }
 
     fn with_regime_mut(&mut self, f: impl FnOnce(&mut Regime)) {
@@ -1492,14 +1466,22 @@ impl App {
             },
             other => other.clone(),
         };
+        self.open_case(job.load_factor, job.phase, initial);
+    }
+
+    /// Step the case `(lambda, phi)` with the transient `initial` (the
+    /// explorer's model otherwise) in the stepping view, from the start:
+    /// what Enter in the sweep view and in the regime map does.
+    fn open_case(&mut self, load_factor: f64, phase: f64, initial: Initial) {
         let c = &self.case.cycle;
-        let cycle = match Cycle::new(c.center(), job.load_factor, c.slope(), job.phase) {
+        let cycle = match Cycle::new(c.center(), load_factor, c.slope(), phase) {
             Ok(cycle) => cycle,
             Err(e) => {
                 self.notice = Some(e.to_string());
                 return;
             }
         };
+        self.pause_regime();
         self.case.cycle = cycle;
         self.path_index = match self.paths.iter().position(|p| *p == initial) {
             Some(i) => i,
@@ -1513,8 +1495,8 @@ impl App {
         self.running = true;
         let what = format!(
             "opened lambda {}, phi {}, path {}",
-            format_load_factor(job.load_factor),
-            format_phase(job.phase),
+            format_load_factor(load_factor),
+            format_phase(phase),
             self.case.initial.name()
         );
         self.restart(&what);

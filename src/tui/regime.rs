@@ -362,17 +362,8 @@ impl Regime {
         if row.initial != self.initial.name() {
             return;
         }
-        let cell = match &row.outcome {
-            Ok(s) => RegimeCell {
-                state: Some(s.state),
-                dissipation: s.dissipation,
-            },
-            Err(_) => RegimeCell {
-                state: None,
-                dissipation: f64::NAN,
-            },
-        };
-        self.map.insert(row.job.load_factor, row.job.phase, cell);
+        self.map
+            .insert(row.job.load_factor, row.job.phase, RegimeCell::of_row(row));
     }
 
     /// `lambda_2(phi)`, one value per phase of the map (tests inject it).

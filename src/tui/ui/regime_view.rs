@@ -12,6 +12,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Widget, Wrap};
 use ratatui::Frame;
 
+use super::sweep_view::{progress_spans, render_status_lines};
 use super::Theme;
 use crate::analysis::regime::RegimeCell;
 use crate::palette::{map_colour, Rgb, Shading};
@@ -362,47 +363,19 @@ fn render_status(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let label = |s: &str| Span::styled(s.to_string(), theme.label());
     let mut line1 = vec![label(" regime map")];
     if let Ok(r) = app.regime() {
-        let state = if r.is_running() {
-            Span::styled("computing in the background", theme.fg(Color::LightGreen))
-        } else if r.done() == r.total() {
-            Span::styled("done", theme.value())
-        } else if !r.started() {
-            Span::styled("not started", theme.alert())
-        } else {
-            Span::styled("stopped (r computes it)", theme.alert())
-        };
-        line1.extend([
-            label(" of "),
-            Span::styled(r.initial().name(), theme.value()),
-            label(format!(", {}/{} runs, ", r.done(), r.total()).as_str()),
-            state,
-        ]);
+        line1.extend(progress_spans(
+            theme,
+            " of ",
+            r.initial().name(),
+            (r.done(), r.total()),
+            (r.is_running(), r.started()),
+            ("computing in the background", "stopped (r computes it)"),
+        ));
     }
-    let line2 = match app.confirm() {
-        Some(crate::tui::app::Confirm::Quit(_)) => Line::from(Span::styled(
-            " the sweep map is not saved (s saves): quit anyway? y/n",
-            theme.error(),
-        )),
-        Some(crate::tui::app::Confirm::RestartSweep) => Line::from(Span::styled(
-            " discard the sweep map and rerun it? y/n",
-            theme.error(),
-        )),
-        None => Line::from(Span::styled(
-            format!(" {}", app.notice().unwrap_or("")),
-            theme.alert(),
-        )),
-    };
     let hint = if area.width >= 110 {
         " Esc g back  ←→ lambda  ↑↓ phi  PgUp PgDn Home End  Enter open  [ ] path  r rerun  ? help  q quit"
     } else {
         " Esc g back  ←→ lambda  ↑↓ phi  Enter open  [ ] path  r rerun  ? help  q quit"
     };
-    frame.render_widget(
-        Paragraph::new(vec![
-            Line::from(line1),
-            line2,
-            Line::from(Span::styled(hint, theme.label())),
-        ]),
-        area,
-    );
+    render_status_lines(frame, area, app, theme, line1, hint);
 }
