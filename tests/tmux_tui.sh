@@ -4,8 +4,10 @@
 # help, that , scrubs back into history, that L shows the event log, that
 # Esc in the sweep view goes back (and q then asks), that q quits with
 # status 0; then that --ascii draws ASCII only and Ctrl-C exits 130; and
-# that SIGTERM leaves a sane terminal (icanon echo, main screen). Builds
-# nothing itself.
+# that SIGTERM leaves a sane terminal (icanon echo, main screen); and that
+# Ctrl-Z and SIGTSTP give the terminal back to an interactive shell (prompt,
+# main screen, icanon echo) and `fg` redraws the panels. Builds nothing
+# itself.
 #
 #   tests/tmux_tui.sh [path/to/shakedown]    (default target/release/shakedown)
 set -u
@@ -174,4 +176,107 @@ grep -Eq '(^| )echo( |$)' "$work/stty" || fail "after SIGTERM the terminal does 
 alt=$(tm display -p -t "$session" '#{alternate_on}')
 [ "$alt" = "0" ] || fail "after SIGTERM the alternate screen is still on"
 echo "tmux_tui: SIGTERM restores the terminal (icanon echo, main screen), status 143"
+tm kill-session -t "$session" >/dev/null 2>&1
+
+# Ctrl-Z and SIGTSTP: the terminal goes back to an interactive shell
+# (prompt, main screen, icanon echo), and `fg` redraws the explorer. Run
+# from the shell directly, and through a wrapper that waits for it (as
+# `cargo run` does): the whole job must stop, or the shell never gets the
+# terminal back.
+
+# Wait until the explorer ($pid) and its job are stopped and the terminal
+# is handed back: the shell reports the job stopped on the main screen,
+# and runs stty, which finds canonical mode and echo.
+stopped_and_restored() { # $1: how it was stopped
+  local waited=0 state="" alt=""
+  while [ "$waited" -lt 100 ]; do
+    state=$(ps -o stat= -p "$pid" | tr -d ' ')
+    alt=$(tm display -p -t "$session" '#{alternate_on}')
+    case "$state" in T*) [ "$alt" = "0" ] && break ;; esac
+    sleep 0.1
+    waited=$((waited + 1))
+  done
+  case "$state" in T*) ;; *) fail "after $1 the explorer is not stopped (state '$state')" ;; esac
+  [ "$alt" = "0" ] || fail "after $1 the alternate screen is still on"
+  wait_for 'Stopped' 5 || fail "after $1 the shell did not report the job stopped"
+  rm -f "$work/stty"
+  tm send-keys -t "$session" "stty -a > \"$work/stty\"" Enter
+  for _ in $(seq 1 50); do
+    [ -s "$work/stty" ] && break
+    sleep 0.1
+  done
+  [ -s "$work/stty" ] || fail "after $1 the shell did not run stty (it has not got the terminal back)"
+  grep -Eq '(^| )icanon' "$work/stty" || fail "after $1 the terminal is not in canonical mode: $(cat "$work/stty")"
+  grep -Eq '(^| )echo( |$)' "$work/stty" || fail "after $1 the terminal does not echo: $(cat "$work/stty")"
+}
+
+# `fg` takes the terminal again and draws every panel afresh: the
+# alternate screen is empty when re-entered, so what shows was redrawn.
+# (`clear` first, so the next stop's report is the only one on screen.)
+fg_redraws() { # $1: how it was stopped
+  tm send-keys -t "$session" "clear; fg" Enter
+  wait_for 'Slip zones' 10 || fail "after $1 and fg the explorer did not redraw"
+  for panel in "Load plane" "Tractions" "Locked-in slip" "Dissipation" "lambda = "; do
+    wait_for "$panel" 5 || fail "after $1 and fg '$panel' is not on screen"
+  done
+  [ "$(tm display -p -t "$session" '#{alternate_on}')" = "1" ] \
+    || fail "after $1 and fg the explorer is not on the alternate screen"
+  case "$(ps -o stat= -p "$pid" | tr -d ' ')" in
+    T*) fail "after $1 and fg the explorer is still stopped" ;;
+  esac
+}
+
+# $1: the command line that starts the explorer; $2: how many processes
+# deep the explorer is below the shell (1 direct, 2 through a wrapper).
+suspend_and_resume() {
+  local line=$1 depth=$2 parent status
+  rm -f "$work/exit" "$work/screen"
+  tm new-session -d -s "$session" -x 100 -y 30 \
+    "env PS1='tstp-prompt\$ ' bash --norc --noprofile -i" \
+    || fail "could not start tmux (SIGTSTP)"
+  wait_for 'tstp-prompt\$' 10 || fail "SIGTSTP run: the shell prompt did not appear"
+  # The command alone on the line: a list (`bin; echo`) would run on when
+  # the job stops. Its exit status is `fg`'s, read after it quits.
+  tm send-keys -t "$session" "$line" Enter
+  wait_for 'lambda = [0-9]' 15 || fail "SIGTSTP run ($line): the status line did not appear"
+  parent=$(tm display -p -t "$session" '#{pane_pid}')
+  for _ in $(seq 1 "$depth"); do
+    pid=$(ps -o pid= --ppid "$parent" | head -n 1 | tr -d ' ')
+    [ -n "$pid" ] || fail "could not find the explorer's process ($line)"
+    parent=$pid
+  done
+
+  tm send-keys -t "$session" C-z
+  stopped_and_restored "Ctrl-Z ($line)"
+  echo "tmux_tui: Ctrl-Z gives the terminal back (prompt, main screen, icanon echo): $line"
+  fg_redraws "Ctrl-Z ($line)"
+  echo "tmux_tui: fg after Ctrl-Z redraws the panels: $line"
+
+  kill -TSTP "$pid"
+  stopped_and_restored "SIGTSTP ($line)"
+  echo "tmux_tui: SIGTSTP gives the terminal back (prompt, main screen, icanon echo): $line"
+  fg_redraws "SIGTSTP ($line)"
+  echo "tmux_tui: fg after SIGTSTP redraws the panels: $line"
+
+  # It still answers keys, and quits normally.
+  tm send-keys -t "$session" q
+  for _ in $(seq 1 50); do
+    kill -0 "$pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  kill -0 "$pid" 2>/dev/null && fail "q after fg did not end the program ($line)"
+  tm send-keys -t "$session" "echo EXIT:\$? > \"$work/exit\"" Enter
+  for _ in $(seq 1 50); do
+    [ -s "$work/exit" ] && break
+    sleep 0.1
+  done
+  [ -s "$work/exit" ] || fail "the shell did not report the exit status after q ($line)"
+  status=$(cat "$work/exit")
+  [ "$status" = "EXIT:0" ] || fail "q after fg ended the program with $status, expected EXIT:0 ($line)"
+  echo "tmux_tui: q after fg quits with status 0: $line"
+  tm kill-session -t "$session" >/dev/null 2>&1
+}
+
+suspend_and_resume "\"$bin\"" 1
+suspend_and_resume "sh -c '\"$bin\"; exit \$?'" 2
 echo "tmux_tui: ok"

@@ -438,10 +438,46 @@ impl Stepper {
     pub fn status(&self) -> &Status {
         &self.status
     }
-    /// The completed cycles, first to last: their dissipation `W`, net
-    /// rotation and per-node slip.
+    /// The completed cycles kept, first to last: their dissipation `W`, net
+    /// rotation and per-node slip. All of them unless
+    /// [`Stepper::trim_history`] was called (each record's `cycle` says
+    /// which cycle it is).
     pub fn history(&self) -> &[CycleRecord] {
         &self.history
+    }
+    /// Keep the per-node slip of the last `keep` completed cycles only
+    /// (never fewer than the [`SETTLE_CYCLES`](super::steady::SETTLE_CYCLES)
+    /// `+ 1` that the verdict classifies), so that a run stepped on for
+    /// hours holds a bounded amount of memory. While the run is
+    /// [`Status::Running`], older cycles keep their number, `W` and
+    /// rotation (the cycle cap and the trend of `W` read those), with
+    /// `forward` and `backward` emptied; once it has its verdict, nothing
+    /// reads them any more and older cycles are dropped altogether. No
+    /// verdict, summary or count of cycles changes. Returns the bytes freed.
+    pub fn trim_history(&mut self, keep: usize) -> usize {
+        let keep = keep.max(super::steady::SETTLE_CYCLES + 1);
+        let end = self.history.len().saturating_sub(keep);
+        let slip_bytes = |r: &CycleRecord| {
+            std::mem::size_of::<f64>() * (r.forward.capacity() + r.backward.capacity())
+        };
+        if !matches!(self.status, Status::Running) {
+            return self
+                .history
+                .drain(..end)
+                .map(|r| std::mem::size_of::<CycleRecord>() + slip_bytes(&r))
+                .sum();
+        }
+        let mut freed = 0;
+        for r in self.history[..end].iter_mut().rev() {
+            if r.forward.capacity() == 0 && r.backward.capacity() == 0 {
+                // Trimmed by an earlier call, and so is everything before.
+                break;
+            }
+            freed += slip_bytes(r);
+            r.forward = Vec::new();
+            r.backward = Vec::new();
+        }
+        freed
     }
     /// The cycle in progress (its dissipation so far, its per-node slip).
     pub fn current_cycle(&self) -> &CycleRecord {
@@ -673,7 +709,7 @@ impl Stepper {
             state,
             approach: Approach::Terminal,
             dissipation: last.map_or(0.0, |r| r.dissipation),
-            cycles: self.history.len(),
+            cycles: last.map_or(0, |r| r.cycle),
             rotation_per_cycle: last.map_or(0.0, |r| r.rotation),
             terminal_load: Some(load),
             terminal_time: time,

@@ -37,8 +37,18 @@ pub const SPEEDS: [usize; 9] = [1, 2, 4, 8, 16, 32, 64, 128, 256];
 const DEFAULT_SPEED: usize = 2;
 /// Default history budget (`--history-mb`).
 pub const DEFAULT_HISTORY_MB: usize = 256;
-/// Bytes a log entry holds, about, for its share of the budget.
-const LOG_ENTRY_BYTES: usize = 160;
+/// Bytes a log entry holds, about, for its share of the budget: the entry
+/// twice (the ring buffer's spare capacity) and its text on the heap.
+const LOG_ENTRY_BYTES: usize = 2 * std::mem::size_of::<LogEntry>() + 64;
+/// `--history-mb` is shared: the event log gets this fraction (1/8) ...
+const LOG_SHARE: usize = 8;
+/// ... the stepper's own record of completed cycles 1/16 (the worker keeps
+/// per-node data of the last few cycles only, so this is a safety net) ...
+const STEPPER_SHARE: usize = 16;
+/// ... and `W` per cycle at most this many cycles (older ones are thinned
+/// to every 2nd, 4th, ... cycle, which the `W` panel cannot tell apart);
+/// the increments' records get the rest.
+const MAX_W_CYCLES: usize = 8192;
 /// Most worker replies taken per frame, so a frame never runs long.
 const MAX_REPLIES_PER_FRAME: usize = 20_000;
 
@@ -200,7 +210,7 @@ impl App {
     pub fn with_sweep(case: Case, config: Config, source: Result<SweepSource, String>) -> Self {
         let operators = stepping::operators(&case.disc);
         let worker = Worker::spawn(Arc::clone(&operators));
-        worker.send(Command::Budget(config.history_bytes / 4));
+        worker.send(Command::Budget(config.history_bytes / STEPPER_SHARE));
         let mut paths = Initial::paper_set();
         let path_index = match paths.iter().position(|p| *p == case.initial) {
             Some(i) => i,
@@ -211,7 +221,7 @@ impl App {
         };
         let regime = RegimeSource::builtin(&case).map(Regime::new);
         let mut app = Self {
-            history: History::new(config.history_bytes),
+            history: History::new(history_share(config.history_bytes)),
             config,
             case,
             operators,
@@ -606,7 +616,7 @@ impl App {
             Action::Entry => self.entry = Some(String::new()),
             Action::ToCycleEnd => self.set_goal(match self.stepper_phase() {
                 Phase::Transient { .. } => Goal::TransientEnd,
-                Phase::Cycle { .. } => Goal::CycleEnd(self.cycles.len() + 1),
+                Phase::Cycle { cycle, .. } => Goal::CycleEnd(cycle),
             }),
             Action::ToSteady => {
                 if let Status::Steady(s) = self.status() {
@@ -625,11 +635,11 @@ impl App {
             }
             Action::Faster => {
                 self.speed = (self.speed + 1).min(SPEEDS.len() - 1);
-                self.notice = Some(format!("speed: {} increments per frame", self.speed()));
+                self.notice = Some(format!("speed: {} incr/frame", self.speed()));
             }
             Action::Slower => {
                 self.speed = self.speed.saturating_sub(1);
-                self.notice = Some(format!("speed: {} increments per frame", self.speed()));
+                self.notice = Some(format!("speed: {} incr/frame", self.speed()));
             }
             Action::PauseOnEvents => {
                 self.pause_on_events = !self.pause_on_events;
@@ -1384,7 +1394,7 @@ impl App {
                 self.running = false;
                 self.goal = None;
                 self.notice =
-                    Some("paused: the steady run's cycle records reached the memory budget".into());
+                    Some("paused: the record of cycles filled its share of --history-mb".into());
             }
             Stopped::Cancelled => {}
         }
@@ -1400,12 +1410,14 @@ impl App {
             self.slip_scale = self.slip_scale.max(f64::from(m));
         }
         if let Some(c) = r.completed {
+            if self.cycles.len() >= MAX_W_CYCLES {
+                thin_older_half(&mut self.cycles);
+            }
             self.cycles.push(c);
         }
         for e in &r.events {
             self.last_event = Some(e.text.clone());
-            // The log gets an eighth of the history budget.
-            let max_log = (self.config.history_bytes / 8 / LOG_ENTRY_BYTES).max(1000);
+            let max_log = (self.config.history_bytes / LOG_SHARE / LOG_ENTRY_BYTES).max(1000);
             if self.log.len() >= max_log {
                 self.log.pop_front();
                 self.log_dropped += 1;
@@ -1504,6 +1516,28 @@ impl App {
 }
 
 /// `pi/4`, `-3pi/8`, `0.3`.
+/// What the increments' records may use of `--history-mb`: what the event
+/// log, the stepper's record of cycles and the `W` series leave.
+fn history_share(budget: usize) -> usize {
+    let w = MAX_W_CYCLES * std::mem::size_of::<(usize, f64)>();
+    budget
+        .saturating_sub(budget / LOG_SHARE + budget / STEPPER_SHARE)
+        .saturating_sub(w)
+}
+
+/// Drop every other entry of the older half of `cycles` (the newest half
+/// is kept whole), so a series thinned again and again keeps the recent
+/// cycles dense and the old ones ever sparser.
+fn thin_older_half(cycles: &mut Vec<(usize, f64)>) {
+    let half = cycles.len() / 2;
+    let mut i = 0;
+    cycles.retain(|_| {
+        let keep = i >= half || i % 2 == 0;
+        i += 1;
+        keep
+    });
+}
+
 fn parse_phase(s: &str) -> Option<f64> {
     let s = s.trim().replace('π', "pi");
     if let Ok(v) = s.parse::<f64>() {

@@ -196,8 +196,9 @@ pub fn entries(events: &[Event], at: At, directions: &[SlipDirection]) -> Vec<Lo
                     nodes.len(),
                     theta_range(nodes, n),
                     format!(
-                        "advancing stick at {} ({substeps} sub-segments)",
-                        plural(nodes.len(), "node")
+                        "advancing stick at {} ({})",
+                        plural(nodes.len(), "node"),
+                        plural(*substeps, "sub-segment")
                     ),
                 );
                 e.load = (load.x(), load.y());

@@ -120,12 +120,20 @@ pub fn take_signal(flag: &AtomicUsize) -> Signal {
     }
 }
 
-/// Restore the terminal, stop the process as SIGTSTP would, and on `fg`
-/// take the terminal again and redraw everything.
+/// Restore the terminal, stop as the terminal's own Ctrl-Z would, and on
+/// `fg` take the terminal again and redraw everything.
 pub fn suspend(term: &mut Term) -> Result<(), TuiError> {
     restore();
+    // The terminal's Ctrl-Z stops the whole foreground process group, and
+    // so must this: stopping only this process would leave a wrapper that
+    // waits for it (`cargo run`, a script) running, and the shell would
+    // never get the terminal back. SIGSTOP, because SIGTSTP is caught here.
     // Stops here until SIGCONT.
-    let _ = signal_hook::low_level::emulate_default_handler(SIGTSTP);
+    // SAFETY: kill(2) with pid 0 signals our own process group; it takes
+    // no pointers.
+    if unsafe { libc::kill(0, libc::SIGSTOP) } != 0 {
+        let _ = signal_hook::low_level::emulate_default_handler(SIGTSTP);
+    }
     enter()?;
     term.clear()?;
     Ok(())

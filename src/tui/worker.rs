@@ -54,7 +54,8 @@ pub enum Command {
     Pause,
     /// Which events stop a drive (`None`: none do).
     PauseOn(Option<Filter>),
-    /// The byte budget the stepper's own per-cycle records may use.
+    /// The byte budget the stepper's own record of completed cycles may
+    /// use (only a very high cycle cap can reach it).
     Budget(usize),
 }
 
@@ -71,7 +72,8 @@ pub enum Stopped {
     Failed(String),
     /// A new command replaced the drive.
     Cancelled,
-    /// The stepper's own record of cycles reached its budget.
+    /// The stepper's own record of cycles reached its budget (a run far
+    /// from its verdict under a very high cycle cap).
     Memory,
 }
 
@@ -100,9 +102,17 @@ pub enum Reply {
     },
 }
 
-/// Replies in flight before the worker waits for the UI: enough for a
-/// few frames at top speed, few enough to bound memory.
-const CHANNEL: usize = 4096;
+/// Bytes of replies in flight before the worker waits for the UI: a few
+/// frames at top speed, little enough not to matter beside
+/// `--history-mb` even when the UI is held up (a record holds about 16
+/// bytes a node).
+const CHANNEL_BYTES: usize = 2 << 20;
+
+/// Replies in flight for `nodes` nodes: [`CHANNEL_BYTES`] worth, between
+/// 64 and 4096 of them.
+fn channel_len(nodes: usize) -> usize {
+    (CHANNEL_BYTES / (16 * nodes.max(1))).clamp(64, 4096)
+}
 /// The frame the paced goal keeps to.
 const FRAME: Duration = Duration::from_millis(16);
 
@@ -118,7 +128,7 @@ impl Worker {
     /// until the first [`Command::Restart`].
     pub fn spawn(operators: Arc<Operators>) -> Self {
         let (tx, commands) = mpsc::channel();
-        let (replies, rx) = mpsc::sync_channel(CHANNEL);
+        let (replies, rx) = mpsc::sync_channel(channel_len(operators.nodes()));
         let thread = std::thread::Builder::new()
             .name("shakedown-stepper".into())
             .spawn(move || Thread::new(operators, commands, replies).run())
@@ -286,7 +296,23 @@ impl Thread {
             Goal::Increments(n) => self.drive(stepping::Goal::Increments(n), true),
             Goal::TransientEnd => self.drive(stepping::Goal::TransientEnd, true),
             Goal::CycleEnd => self.drive(stepping::Goal::CycleEnd, true),
-            Goal::Steady => self.drive(stepping::Goal::Steady, true),
+            // Cycle by cycle, so that the stepper's record of cycles is
+            // trimmed on the way (a slow approach can take thousands).
+            Goal::Steady => loop {
+                let running = self
+                    .stepper
+                    .as_ref()
+                    .is_some_and(|s| matches!(s.status(), Status::Running));
+                let goal = if running {
+                    stepping::Goal::CycleEnd
+                } else {
+                    stepping::Goal::Steady
+                };
+                match self.drive(goal, true) {
+                    Stopped::Reached if running => {}
+                    other => break other,
+                }
+            },
         };
         let generation = self.generation;
         self.send(Reply::Stopped {
@@ -351,10 +377,11 @@ impl Thread {
                     }
                     Err(TryRecvError::Empty) => {}
                 }
-                // The stepper keeps every cycle's per-node record; past
-                // the steady state that would grow without bound.
-                let held = s.history().len() * 16 * s.contact().nodes();
-                if held > budget && !matches!(s.status(), Status::Running) {
+                // The stepper's record of cycles is trimmed after every
+                // drive (see `KEEP_CYCLES`); before the verdict it keeps
+                // `W` of every cycle, which only a cycle cap far beyond
+                // the default could make large.
+                if cycle_bytes(s) > budget {
                     why = Some(Stopped::Memory);
                     return Control::Stop;
                 }
@@ -362,6 +389,7 @@ impl Thread {
             };
             stepping::drive(&mut stepper, goal, &mut observer)
         };
+        stepper.trim_history(KEEP_CYCLES);
         let finished = stepper.is_finished();
         self.stepper = Some(stepper);
         match result {
@@ -374,6 +402,22 @@ impl Thread {
             },
         }
     }
+}
+
+/// Completed cycles whose per-node slip the stepper keeps
+/// ([`Stepper::trim_history`]): the steady-state verdict reads no more.
+const KEEP_CYCLES: usize = 8;
+
+/// Bytes the stepper's record of completed cycles holds.
+fn cycle_bytes(s: &Stepper) -> usize {
+    let history = s.history();
+    let slip: usize = history
+        .iter()
+        .rev()
+        .take_while(|r| !r.forward.is_empty())
+        .map(|r| std::mem::size_of_val(&r.forward[..]) + std::mem::size_of_val(&r.backward[..]))
+        .sum();
+    std::mem::size_of_val(history) + slip
 }
 
 /// `g` minus its mean, as stored.

@@ -6,6 +6,7 @@ mod batch_cli;
 mod common;
 mod engine;
 mod figures;
+mod history_trim;
 mod kernels;
 mod limit;
 mod numerical_failure;

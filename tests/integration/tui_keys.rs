@@ -825,7 +825,42 @@ fn events_are_logged_and_filtered_by_size() {
     terminal.draw(|f| ui::draw(f, &app)).unwrap();
     let text = terminal.backend().to_string();
     assert!(text.contains("Event log"), "{text}");
-    assert!(text.contains("sub-segments)"), "wrapped, not cut: {text}");
+    assert!(
+        text.contains("sub-segment)") || text.contains("sub-segments)"),
+        "wrapped, not cut: {text}"
+    );
+}
+
+/// Counts in the log's words agree with their nouns: "1 node",
+/// "1 sub-segment", "2 sub-segments".
+#[test]
+fn log_counts_are_singular_or_plural() {
+    use shakedown::contact::SlipDirection;
+    use shakedown::stepping::Event;
+    use shakedown::tui::log::{entries, At};
+    use shakedown::LoadPoint;
+    let at = At {
+        increment: 7,
+        cycle: 1,
+        time: Some(0.5),
+        load: (1.0, 0.5),
+    };
+    let dirs = vec![SlipDirection::Stick; 16];
+    let stick = |nodes: Vec<usize>, substeps| Event::AdvancingStick {
+        nodes,
+        substeps,
+        time: Some(0.4),
+        load: LoadPoint::new(1.0, 0.4),
+    };
+    let text = |e| entries(&[e], at, &dirs)[0].text.clone();
+    assert_eq!(
+        text(stick(vec![3], 1)),
+        "advancing stick at 1 node (1 sub-segment)"
+    );
+    assert_eq!(
+        text(stick(vec![3, 4], 2)),
+        "advancing stick at 2 nodes (2 sub-segments)"
+    );
 }
 
 #[test]

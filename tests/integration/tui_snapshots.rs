@@ -243,6 +243,47 @@ fn pinned_run_is_drawn_against_the_current_one() {
     insta::assert_snapshot!(text);
 }
 
+/// Text that runs into the edge of the screen or of a panel's foot was
+/// cut: it must say so with `…`. Checked on the status lines and the
+/// panels' feet, at 80 and 100 columns, in states with the longest texts
+/// (a pinned run and its notice, an advancing stick scrubbed back to).
+#[test]
+fn nothing_is_cut_without_an_ellipsis() {
+    let mut pinned = app_after(INCREMENTS);
+    pinned.apply(Action::Pin);
+    let mut stuck = app_after(INCREMENTS);
+    while stuck.shown().unwrap().increment != 888 {
+        stuck.apply(Action::Back1);
+    }
+    stuck.apply(Action::Pin);
+    for app in [&pinned, &stuck] {
+        for (w, h) in [(80u16, 24u16), (100, 30)] {
+            let text = screen(app, w, h).backend().to_string();
+            let lines: Vec<Vec<char>> = text
+                .lines()
+                .map(|l| l.trim_matches('"').chars().collect())
+                .collect();
+            let rows = lines.len();
+            for line in &lines[rows - 2..] {
+                if line.len() == w as usize && line[w as usize - 1] != ' ' {
+                    assert_eq!(line[w as usize - 1], '…', "{w}x{h}:\n{text}");
+                }
+            }
+            // The panels' feet: a title must end before a corner.
+            let foot = &lines[rows - 4];
+            for (i, &c) in foot.iter().enumerate().skip(1) {
+                if c == '╯' {
+                    let before = foot[i - 1];
+                    assert!(
+                        matches!(before, '─' | '…' | ' '),
+                        "{w}x{h}: cut before a corner at column {i}:\n{text}"
+                    );
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn ascii_draws_ascii_only() {
     let mut app = app(true);

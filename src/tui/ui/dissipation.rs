@@ -82,22 +82,37 @@ impl Widget for Dissipation<'_> {
         let last = completed
             .last()
             .map_or("–".to_string(), |&(_, w)| format_sci(w));
-        let mut bottom = vec![
+        let done = [
             Span::styled(" o ", theme.fg(Color::LightCyan)),
             Span::styled(format!("{last} "), theme.value()),
+        ];
+        let now = [
             Span::styled("+ ", theme.alert()),
             Span::styled(format!("{} ", format_sci(now_w)), theme.value()),
         ];
-        if let Some(&(_, w)) = pinned.last() {
-            bottom.push(Span::styled("x ", theme.dim()));
-            bottom.push(Span::styled(format!("{} ", format_sci(w)), theme.value()));
+        let pin = pinned.last().map(|&(_, w)| {
+            [
+                Span::styled("x ", theme.dim()),
+                Span::styled(format!("{} ", format_sci(w)), theme.value()),
+            ]
+        });
+        // All three values if they fit; else the pinned run's last `W`
+        // before the cycle in progress, which the plot shows anyway.
+        let mut candidates = vec![Line::from(
+            done.iter()
+                .chain(&now)
+                .chain(pin.iter().flatten())
+                .cloned()
+                .collect::<Vec<_>>(),
+        )];
+        if let Some(pin) = &pin {
+            candidates.push(Line::from(
+                done.iter().chain(pin).cloned().collect::<Vec<_>>(),
+            ));
         }
+        let bottom = super::first_fitting(candidates, area.width.saturating_sub(2) as usize);
         let chart = Chart::new(datasets)
-            .block(
-                theme
-                    .panel(" Dissipation W ")
-                    .title_bottom(Line::from(bottom)),
-            )
+            .block(theme.panel(" Dissipation W ").title_bottom(bottom))
             .legend_position(None)
             .x_axis(
                 Axis::default()

@@ -94,11 +94,23 @@ impl Widget for Help<'_> {
             Mode::Log => " Keys: event log ",
             Mode::Regime => " Keys: regime map ",
         };
-        let table = Table::new(rows, widths).column_spacing(1).block(
-            theme
-                .panel(title)
-                .title_bottom(Line::from(Span::styled(" ? or Esc closes ", theme.label()))),
+        // The mouse wheel is no key, but says what it does here too.
+        let wheel = match self.mode {
+            Mode::Stepping => " wheel: history · ? or Esc closes ",
+            Mode::Sweep => " wheel: transients · ? or Esc closes ",
+            Mode::Log => " wheel: the log · ? or Esc closes ",
+            Mode::Regime => " wheel: phi rows · ? or Esc closes ",
+        };
+        let foot = super::first_fitting(
+            vec![
+                Line::from(Span::styled(wheel, theme.label())),
+                Line::from(Span::styled(" ? or Esc closes ", theme.label())),
+            ],
+            rect.width.saturating_sub(2) as usize,
         );
+        let table = Table::new(rows, widths)
+            .column_spacing(1)
+            .block(theme.panel(title).title_bottom(foot));
         Clear.render(rect, buf);
         table.render(rect, buf);
     }

@@ -118,6 +118,46 @@ pub fn asciify(buf: &mut Buffer) {
     }
 }
 
+/// `spans` cut to `width` columns, with `…` where text was cut so that it
+/// never looks complete when it is not (`..` is what `--ascii` makes of
+/// it: `asciify` turns `…` into `.`).
+pub fn fit_spans(spans: Vec<Span<'_>>, width: usize) -> Vec<Span<'_>> {
+    let total: usize = spans.iter().map(Span::width).sum();
+    if total <= width {
+        return spans;
+    }
+    let mut out = Vec::new();
+    let mut left = width.saturating_sub(1);
+    for span in spans {
+        let w = span.width();
+        if w <= left {
+            left -= w;
+            out.push(span);
+            continue;
+        }
+        let cut: String = span.content.chars().take(left).collect();
+        out.push(Span::styled(format!("{}…", cut.trim_end()), span.style));
+        return out;
+    }
+    out
+}
+
+/// The first of `lines` that fits in `width` columns, or the last cut to
+/// fit: panels title their foot with the most that fits.
+pub fn first_fitting(lines: Vec<Line<'_>>, width: usize) -> Line<'_> {
+    let n = lines.len();
+    for (i, line) in lines.into_iter().enumerate() {
+        if line.width() <= width || i + 1 == n {
+            if line.width() <= width {
+                return line;
+            }
+            let style = line.style;
+            return Line::from(fit_spans(line.spans, width)).style(style);
+        }
+    }
+    Line::default()
+}
+
 /// Where each panel goes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Areas {

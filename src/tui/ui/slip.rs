@@ -108,14 +108,31 @@ impl Widget for Slip<'_> {
                     Some(f64::from(detail.slip[j] - b).abs())
                 })
                 .fold(0.0, f64::max);
-            Line::from(vec![
-                Span::styled(
-                    format!(" {STUCK_GLYPH} locked in, dg up to "),
-                    theme.newly_stuck(),
-                ),
-                Span::styled(format!("{} ", format_sci(change)), theme.value()),
-                Span::styled("(grey: before) ", theme.label()),
-            ])
+            let change = format!("{} ", format_sci(change));
+            super::first_fitting(
+                vec![
+                    Line::from(vec![
+                        Span::styled(
+                            format!(" {STUCK_GLYPH} locked in, dg up to "),
+                            theme.newly_stuck(),
+                        ),
+                        Span::styled(change.clone(), theme.value()),
+                        Span::styled("(grey: before) ", theme.label()),
+                    ]),
+                    Line::from(vec![
+                        Span::styled(
+                            format!(" {STUCK_GLYPH} locked in, dg up to "),
+                            theme.newly_stuck(),
+                        ),
+                        Span::styled(change.clone(), theme.value()),
+                    ]),
+                    Line::from(vec![
+                        Span::styled(format!(" {STUCK_GLYPH} dg up to "), theme.newly_stuck()),
+                        Span::styled(change, theme.value()),
+                    ]),
+                ],
+                area.width.saturating_sub(2) as usize,
+            )
         };
         let chart = Chart::new(datasets)
             .block(theme.panel(title).title_bottom(bottom))

@@ -12,6 +12,10 @@ use crate::stepping::{Phase, Status};
 use crate::tui::app::{format_load_factor, format_phase, format_sci, App, Confirm, Goal};
 use crate::tui::log::format_theta;
 
+/// Columns of an event's text kept, at least, when a notice shares its
+/// line (the event log has it whole).
+const EVENT_MIN: usize = 20;
+
 /// The status lines widget.
 pub struct StatusLines<'a> {
     pub app: &'a App,
@@ -31,6 +35,7 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
     let sep = || Span::styled(theme.sym("  │ ", "  | "), theme.dim());
 
     let wide = area.width >= 100;
+    let width = area.width as usize;
     let path = &app.paths()[app.path_index()];
     let mut line1 = Line::from(vec![
         label(" lambda = "),
@@ -117,12 +122,21 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
         line2.spans.extend([sep(), Span::styled(l, theme.alert())]);
     }
     if let Some(p) = app.pinned() {
+        // The pinned run's state is the point of the comparison; its label
+        // (lambda, phi, path) was said when it was pinned.
+        let full = format!("{}: {}", p.label, p.state);
+        let room = width.saturating_sub(line2.width() + 12);
         line2.spans.extend([
             sep(),
             label("pinned "),
-            value(format!("{}: {}", p.label, p.state)),
+            value(if full.chars().count() <= room {
+                full
+            } else {
+                p.state.clone()
+            }),
         ]);
     }
+    let line2 = Line::from(super::fit_spans(line2.spans, width));
 
     let mode = match (app.goal(), app.is_running()) {
         (Some(Goal::Steady), _) => "» steady".to_string(),
@@ -162,17 +176,22 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
             theme.error(),
         ));
     } else if let Some(text) = app.entry() {
-        spans.push(Span::styled(
+        let room = width.saturating_sub(spans.iter().map(Span::width).sum());
+        let prompt = [
             format!(": {text}_  (lambda = 5.13, phi = pi/4, path = OA; Enter, Esc)"),
-            theme.alert(),
+            format!(": {text}_  (lambda = 5.13, phi = pi/4, path = OA)"),
+            format!(": {text}_  (lambda = 5.13, phi, path)"),
+        ]
+        .into_iter()
+        .find(|p| p.chars().count() <= room)
+        .unwrap_or_else(|| format!(": {text}_"));
+        spans.extend(super::fit_spans(
+            vec![Span::styled(prompt, theme.alert())],
+            room,
         ));
     } else if let Some(f) = app.failure() {
         spans.push(Span::styled(format!("solver failed: {f}"), theme.error()));
     } else {
-        if let Some(n) = app.notice() {
-            spans.push(Span::styled(n.to_string(), theme.alert()));
-            spans.push(sep());
-        }
         // At a history instant, its own events; live, the last one.
         let event = match (app.cursor(), shown) {
             (Some(_), Some(r)) => r
@@ -180,9 +199,45 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
                 .first()
                 .map(|e| format!("{} (theta/pi {})", e.text, format_theta(e.theta))),
             _ => app.last_event().map(str::to_string),
-        };
-        spans.push(label("event: "));
-        spans.push(Span::raw(event.unwrap_or_else(|| "–".into())));
+        }
+        .unwrap_or_else(|| "–".into());
+        let room = width.saturating_sub(spans.iter().map(Span::width).sum());
+        let notice = app.notice().unwrap_or_default();
+        let (n, e) = (notice.chars().count(), event.chars().count());
+        let sep_width = sep().width();
+        let all = if notice.is_empty() { 0 } else { n + sep_width };
+        if all + "event: ".len() + e <= room {
+            if !notice.is_empty() {
+                spans.push(Span::styled(notice.to_string(), theme.alert()));
+                spans.push(sep());
+            }
+            spans.push(label("event: "));
+            spans.push(Span::raw(event));
+        } else {
+            // Too long for the line: no "event: " label, and if that is
+            // not enough, the notice takes at most half and the event the
+            // rest, each cut with `…` (the event log has every event whole).
+            let mut rest = room;
+            if !notice.is_empty() {
+                // The notice answers the last key: whole if the event
+                // keeps a readable start.
+                let keep = if all + e.min(EVENT_MIN) <= room {
+                    n
+                } else {
+                    n.min(
+                        (room / 2)
+                            .saturating_sub(sep_width)
+                            .max(room.saturating_sub(e + sep_width)),
+                    )
+                };
+                let cut =
+                    super::fit_spans(vec![Span::styled(notice.to_string(), theme.alert())], keep);
+                rest = rest.saturating_sub(cut.iter().map(Span::width).sum::<usize>() + sep_width);
+                spans.extend(cut);
+                spans.push(sep());
+            }
+            spans.extend(super::fit_spans(vec![Span::raw(event)], rest));
+        }
     }
     let line3 = Line::from(spans);
 

@@ -98,9 +98,9 @@ impl Widget for Tractions<'_> {
             Line::from(Span::styled(
                 if wide {
                     format!(
-                        " {STUCK_GLYPH} just stuck: {}, {} sub-increments ",
+                        " {STUCK_GLYPH} just stuck: {}, {} ",
                         plural(k, "node"),
-                        record.substeps
+                        plural(record.substeps, "sub-increment")
                     )
                 } else {
                     format!(" {STUCK_GLYPH} {k} stuck, {} sub-incr ", record.substeps)
