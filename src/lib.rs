@@ -62,6 +62,8 @@
 //!   batch runs (ordered output, shards, resume, merge).
 //! * `figure` (feature `plot`): the paper's figures as SVG/PNG.
 //! * `tui` (feature `tui`): the terminal explorer.
+//! * `palette` (with `plot` or `tui`): the paper's state colours, which the
+//!   figures and the terminal share.
 //!
 //! With `default-features = false` the crate is the headless physics and
 //! analysis only. Dependencies point one way: the front ends (`cli`, `figure`,
@@ -88,6 +90,8 @@ pub mod contact;
 pub mod figure;
 pub mod io;
 pub mod model;
+#[cfg(any(feature = "plot", feature = "tui"))]
+pub mod palette;
 pub mod stepping;
 #[cfg(feature = "tui")]
 pub mod tui;

@@ -279,4 +279,31 @@ suspend_and_resume() {
 
 suspend_and_resume "\"$bin\"" 1
 suspend_and_resume "sh -c '\"$bin\"; exit \$?'" 2
+
+# The terminal disappears (an SSH connection drops, the tmux server is
+# killed): the explorer gets SIGHUP and must end, not run on without a
+# terminal. Its own tmux server, so killing it touches nothing else.
+hup="${session}-hup"
+tmux -L "$hup" new-session -d -s "$hup" -x 80 -y 24 "\"$bin\"" \
+  || fail "could not start tmux (hang-up)"
+for _ in $(seq 1 150); do
+  tmux -L "$hup" capture-pane -p -t "$hup" 2>/dev/null | grep -q 'lambda = [0-9]' && break
+  sleep 0.1
+done
+hup_shell=$(tmux -L "$hup" display -p -t "$hup" '#{pane_pid}')
+[ -n "$hup_shell" ] || fail "could not find the hang-up run's pane"
+# The pane runs the explorer itself or a shell around it.
+hup_pid=$(ps -o pid= --ppid "$hup_shell" | head -n 1 | tr -d ' ')
+[ -n "$hup_pid" ] || hup_pid=$hup_shell
+tmux -L "$hup" kill-server
+gone=""
+for _ in $(seq 1 50); do
+  if ! kill -0 "$hup_pid" 2>/dev/null; then gone=1; break; fi
+  sleep 0.1
+done
+if [ -z "$gone" ]; then
+  kill -9 "$hup_pid" 2>/dev/null
+  fail "the explorer ran on after its terminal was gone (SIGHUP)"
+fi
+echo "tmux_tui: the explorer ends when its terminal goes away"
 echo "tmux_tui: ok"

@@ -22,6 +22,22 @@ pub struct RegimeCell {
     pub dissipation: f64,
 }
 
+impl RegimeCell {
+    /// The cell of a sweep's run: its state and `W`, or a failure.
+    pub fn of_row(row: &Row) -> RegimeCell {
+        match &row.outcome {
+            Ok(s) => RegimeCell {
+                state: Some(s.state),
+                dissipation: s.dissipation,
+            },
+            Err(_) => RegimeCell {
+                state: None,
+                dissipation: f64::NAN,
+            },
+        }
+    }
+}
+
 /// The states over a `lambda x phi` grid.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RegimeMap {
@@ -33,46 +49,68 @@ pub struct RegimeMap {
 }
 
 impl RegimeMap {
-    /// The map of `(lambda, phi, cell)` triples. The grid is the sorted
-    /// distinct `lambda` and `phi`; a repeated point keeps the last cell.
-    pub fn from_cells(cells: impl IntoIterator<Item = (f64, f64, RegimeCell)>) -> RegimeMap {
-        let cells: Vec<(f64, f64, RegimeCell)> = cells.into_iter().collect();
-        let sorted = |mut v: Vec<f64>| {
+    /// A map over the grid `load_factors x phases` (sorted, repeats
+    /// dropped) with no cell yet: one to fill in with [`RegimeMap::insert`]
+    /// as runs finish (the terminal's regime map).
+    pub fn empty(load_factors: &[f64], phases: &[f64]) -> RegimeMap {
+        let sorted = |v: &[f64]| {
+            let mut v = v.to_vec();
             v.sort_by(f64::total_cmp);
             v.dedup();
             v
         };
-        let load_factors = sorted(cells.iter().map(|c| c.0).collect());
-        let phases = sorted(cells.iter().map(|c| c.1).collect());
-        let mut grid = vec![None; load_factors.len() * phases.len()];
-        for (l, p, cell) in cells {
-            let i = load_factors.partition_point(|&v| v < l);
-            let j = phases.partition_point(|&v| v < p);
-            grid[j * load_factors.len() + i] = Some(cell);
-        }
+        let load_factors = sorted(load_factors);
+        let phases = sorted(phases);
         RegimeMap {
+            cells: vec![None; load_factors.len() * phases.len()],
             load_factors,
             phases,
-            cells: grid,
         }
+    }
+
+    /// Put `cell` at the grid point `(lambda, phi)`, replacing what was
+    /// there. Returns false, and changes nothing, when the point is not on
+    /// the grid.
+    pub fn insert(&mut self, load_factor: f64, phase: f64, cell: RegimeCell) -> bool {
+        let i = self.load_factors.partition_point(|&v| v < load_factor);
+        let j = self.phases.partition_point(|&v| v < phase);
+        if self.load_factors.get(i) != Some(&load_factor) || self.phases.get(j) != Some(&phase) {
+            return false;
+        }
+        self.cells[j * self.load_factors.len() + i] = Some(cell);
+        true
+    }
+
+    /// Empty every cell, keeping the grid.
+    pub fn clear(&mut self) {
+        self.cells.iter_mut().for_each(|c| *c = None);
+    }
+
+    /// The number of cells that hold a run.
+    pub fn filled(&self) -> usize {
+        self.cells.iter().filter(|c| c.is_some()).count()
+    }
+
+    /// The map of `(lambda, phi, cell)` triples. The grid is the sorted
+    /// distinct `lambda` and `phi`; a repeated point keeps the last cell.
+    pub fn from_cells(cells: impl IntoIterator<Item = (f64, f64, RegimeCell)>) -> RegimeMap {
+        let cells: Vec<(f64, f64, RegimeCell)> = cells.into_iter().collect();
+        let lambdas: Vec<f64> = cells.iter().map(|c| c.0).collect();
+        let phases: Vec<f64> = cells.iter().map(|c| c.1).collect();
+        let mut map = Self::empty(&lambdas, &phases);
+        for (l, p, cell) in cells {
+            map.insert(l, p, cell);
+        }
+        map
     }
 
     /// The map of a sweep's rows (use one initial path: with several, the
     /// last one at each point wins).
     pub fn from_rows(rows: &[Row]) -> RegimeMap {
-        Self::from_cells(rows.iter().map(|r| {
-            let cell = match &r.outcome {
-                Ok(s) => RegimeCell {
-                    state: Some(s.state),
-                    dissipation: s.dissipation,
-                },
-                Err(_) => RegimeCell {
-                    state: None,
-                    dissipation: f64::NAN,
-                },
-            };
-            (r.job.load_factor, r.job.phase, cell)
-        }))
+        Self::from_cells(
+            rows.iter()
+                .map(|r| (r.job.load_factor, r.job.phase, RegimeCell::of_row(r))),
+        )
     }
 
     /// The `lambda` values, ascending.
@@ -161,5 +199,24 @@ mod tests {
         assert_eq!(m.nearest(4.4, 0.9), Some((0, 1)));
         assert_eq!(m.cell_bounds(0, 0), ((3.5, 4.5), (-0.5, 0.5)));
         assert_eq!(m.dissipation_range(), Some((0.5, 2.0)));
+        assert_eq!(m.filled(), 3);
+    }
+
+    #[test]
+    fn an_empty_grid_fills_in() {
+        let mut m = RegimeMap::empty(&[5.0, 4.0, 5.0], &[0.0, 1.0]);
+        assert_eq!(m.load_factors(), &[4.0, 5.0]);
+        assert_eq!(m.filled(), 0);
+        let c = RegimeCell {
+            state: None,
+            dissipation: f64::NAN,
+        };
+        assert!(m.insert(5.0, 1.0, c));
+        assert!(!m.insert(4.5, 1.0, c), "not a grid point");
+        assert!(!m.insert(9.0, 1.0, c), "beyond the grid");
+        assert_eq!(m.filled(), 1);
+        assert!(m.cell(1, 1).is_some());
+        m.clear();
+        assert_eq!(m.filled(), 0);
     }
 }

@@ -1,8 +1,9 @@
-//! The command-line side of batch runs, shared by `sweep` and (later)
-//! `figure`: Ctrl-C, an output file that can be resumed, line-by-line
-//! writing that survives a closed pipe.
+//! The command-line side of batch runs, shared by `sweep` and `figure`:
+//! Ctrl-C, an output file that can be resumed, line-by-line writing that
+//! survives a closed pipe, and [`stream_sweep`], which does all of it for
+//! a sweep's rows.
 //!
-//! How a batch command uses it (see `sweep.rs`):
+//! How a batch command uses it (see [`stream_sweep`]):
 //!
 //! 1. Build the job list and each job's line key; slice it with
 //!    `--shard K/N` ([`shakedown::io::batch::Shard`]).
@@ -17,14 +18,16 @@
 //!    resume and exit with [`INTERRUPTED`].
 
 use std::fs::{File, OpenOptions};
-use std::io::{self, Seek, SeekFrom, Write};
+use std::io::{self, IsTerminal, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::OnceLock;
 
 use anyhow::{anyhow, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use shakedown::analysis::sweep::{Job, Row, SweepSpec, CSV_HEADER};
 use shakedown::io::batch::{resume_point, Interrupt};
-use shakedown::io::csv::{check_preamble, Metadata};
+use shakedown::io::csv::{check_preamble, sweep_metadata, sweep_row_key, Metadata};
 use shakedown::io::output::{is_nonempty_file, same_file, LockError, OutputLock, WriteError};
 use shakedown::io::read::{read_capped, ReadError};
 
@@ -316,4 +319,93 @@ pub fn report_interrupt(out: &Output, total: usize) -> ExitCode {
         eprintln!("interrupted: {done} of {total} runs were written");
     }
     ExitCode::from(INTERRUPTED)
+}
+
+/// A progress bar on stderr when it is a terminal.
+pub fn progress(len: usize) -> ProgressBar {
+    if std::io::stderr().is_terminal() {
+        let b = ProgressBar::new(len as u64);
+        b.set_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} runs  {elapsed} (eta {eta})")
+                .expect("valid template"),
+        );
+        b
+    } else {
+        ProgressBar::hidden()
+    }
+}
+
+/// How [`stream_sweep`] ended.
+pub struct Streamed {
+    /// The output, still open and locked: [`Output::kept`] rows were there
+    /// before, [`Output::written`] were added.
+    pub out: Output,
+    /// Every job is in the output; false when Ctrl-C stopped the runs.
+    pub complete: bool,
+}
+
+/// Run the jobs of `spec` that are not yet in the output and stream their
+/// rows into it: what `sweep` and a sweep figure both do.
+///
+/// The output (`target`, or stdout) is opened with the sweep's metadata
+/// and [`CSV_HEADER`] ([`Output::open`]; `resume` keeps the complete rows
+/// whose keys are the first of `keys`, one key per job), a "resuming"
+/// note says how many runs are already done, and the rest run in parallel
+/// under [`ctrl_c`] with a [`progress`] bar. Rows are written in job
+/// order, one flushed line each, so that an interrupt leaves a file of
+/// complete rows (a prefix of the full table) that `--resume` continues.
+/// `each` sees every row written, with the bar (to print above it).
+///
+/// # Errors
+///
+/// The output cannot be opened or resumed (bad input), a line cannot be
+/// written (a closed pipe: see [`is_broken_pipe`]), or the Ctrl-C handler
+/// cannot be installed.
+pub fn stream_sweep(
+    spec: &SweepSpec,
+    jobs: &[Job],
+    keys: &[String],
+    target: Option<&Path>,
+    resume: bool,
+    force: bool,
+    mut each: impl FnMut(&Row, &ProgressBar),
+) -> Result<Streamed> {
+    let meta = sweep_metadata(spec);
+    let mut out = Output::open(
+        target,
+        resume,
+        force,
+        &meta,
+        CSV_HEADER,
+        keys,
+        sweep_row_key,
+    )?;
+    let todo = &jobs[out.kept.min(jobs.len())..];
+    if out.kept > 0 {
+        eprintln!(
+            "resuming: {} of {} runs are already in {}",
+            out.kept,
+            jobs.len(),
+            out.describe()
+        );
+    }
+    if todo.is_empty() {
+        return Ok(Streamed {
+            out,
+            complete: true,
+        });
+    }
+    let interrupt = ctrl_c()?;
+    let bar = progress(jobs.len());
+    bar.set_position(out.kept as u64);
+    bar.reset_eta();
+    let result = spec.run_ordered(todo, interrupt, |row| {
+        out.line(&row.csv_line())?;
+        bar.inc(1);
+        each(&row, &bar);
+        anyhow::Ok(())
+    });
+    bar.finish_and_clear();
+    let complete = result?.is_complete();
+    Ok(Streamed { out, complete })
 }

@@ -23,7 +23,7 @@ use shakedown::analysis::memory::{
 use shakedown::analysis::regime::{RegimeCell, RegimeMap};
 use shakedown::analysis::slip_map::{slip_map, SlipMap, SlipMapError};
 use shakedown::analysis::sweep::Axis;
-use shakedown::analysis::sweep::{SweepSpec, CSV_HEADER};
+use shakedown::analysis::sweep::SweepSpec;
 use shakedown::figure::data::{data_lines, parse_sweep_csv};
 use shakedown::figure::dissipation::memory_window;
 use shakedown::figure::FigureError;
@@ -34,13 +34,14 @@ use shakedown::figure::{
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::io::preset::{FigureKind, FigureSpec, Preset};
 
-use shakedown::io::csv::{case_metadata, slip_csv, sweep_metadata};
+use shakedown::io::csv::{read_slip_map, slip_csv, slip_map_metadata, sweep_metadata, SlipMapFile};
 use shakedown::io::output::{check_file_stem, is_nonempty_file, temp_path};
 
 use super::batch::{
-    ctrl_c, lock_output, refuse_input_as_output, report_interrupt, write_file, Output, INTERRUPTED,
+    lock_output, progress, refuse_input_as_output, report_interrupt, stream_sweep, write_file,
+    INTERRUPTED,
 };
-use super::sweep::{job_key, progress, row_key, spec, warn_failures, ListArgs};
+use super::sweep::{job_key, spec, warn_failures, ListArgs};
 use super::{load_preset, InputError, ModelArgs};
 
 /// The flags of `shakedown figure`.
@@ -57,7 +58,7 @@ pub struct FigureArgs {
     /// old files stay until the new ones are complete.
     #[arg(long)]
     pub force: bool,
-    /// Redraw from a CSV this figure wrote (NAME.csv), without running anything. The model flags (e.g. --nodes) only matter for lambda_2.
+    /// Redraw from a CSV this figure wrote (NAME.csv; a slip map also reads NAME_load.csv beside it), without running anything. The model flags (e.g. --nodes) only matter for lambda_2.
     #[arg(long, value_name = "FILE.csv", conflicts_with = "resume")]
     pub from: Option<PathBuf>,
     /// Continue an interrupted figure: keep the complete rows of DIR/NAME.csv, run the rest, then draw (sweep figures and the regime map).
@@ -122,8 +123,8 @@ fn read(flag: &str, path: &Path) -> Result<String> {
 }
 
 /// A sweep figure's points: from `--from`, or by running the sweep (row by
-/// row into the CSV, resumable) and reading the CSV back, so that a redraw
-/// from the CSV draws exactly the same figure.
+/// row into the CSV, resumable: [`stream_sweep`]) and reading the CSV back,
+/// so that a redraw from the CSV draws exactly the same figure.
 ///
 /// With `replace` (an existing figure and `--force`), the table is written
 /// beside the old one and renamed over it only once it is complete, so an
@@ -141,63 +142,42 @@ fn sweep_points(
         return Ok(Ok(points));
     }
     let jobs = spec.jobs();
-    // Rows stream to the CSV in job order, one flushed line each, so that
-    // Ctrl-C leaves a file of complete rows (a prefix of the full table)
-    // that --resume continues.
     let keys: Vec<String> = jobs.iter().map(|j| job_key(spec, j)).collect();
     let target = if replace {
         temp_path(csv_path)
     } else {
         csv_path.to_path_buf()
     };
-    let meta = sweep_metadata(spec);
-    let mut out = Output::open(
+    let mut failed = Vec::new();
+    let streamed = stream_sweep(
+        spec,
+        &jobs,
+        &keys,
         Some(&target),
         args.resume,
         replace || args.force,
-        &meta,
-        CSV_HEADER,
-        &keys,
-        row_key,
-    )?;
-    let todo = &jobs[out.kept..];
-    if out.kept > 0 {
-        eprintln!(
-            "resuming: {} of {} runs are already in {}",
-            out.kept,
-            jobs.len(),
-            out.describe()
-        );
-    }
-    let mut rows = Vec::with_capacity(todo.len());
-    if !todo.is_empty() {
-        let interrupt = ctrl_c()?;
-        let bar = progress(jobs.len());
-        bar.set_position(out.kept as u64);
-        bar.reset_eta();
-        let result = spec.run_ordered(todo, interrupt, |row| {
-            out.line(&row.csv_line())?;
-            bar.inc(1);
-            rows.push(row);
-            anyhow::Ok(())
-        });
-        bar.finish_and_clear();
-        if !result?.is_complete() {
-            if replace {
-                drop(out);
-                let _ = std::fs::remove_file(&target);
-                eprintln!(
-                    "interrupted: {} of {} runs were done; the figure made before is unchanged",
-                    rows.len(),
-                    jobs.len()
-                );
-                return Ok(Err(ExitCode::from(INTERRUPTED)));
+        |row, _| {
+            if let Err(e) = &row.outcome {
+                failed.push(e.to_string());
             }
-            eprintln!("no plot was drawn");
-            return Ok(Err(report_interrupt(&out, jobs.len())));
+        },
+    )?;
+    let out = streamed.out;
+    if !streamed.complete {
+        if replace {
+            let written = out.written;
+            drop(out);
+            let _ = std::fs::remove_file(&target);
+            eprintln!(
+                "interrupted: {written} of {} runs were done; the figure made before is unchanged",
+                jobs.len()
+            );
+            return Ok(Err(ExitCode::from(INTERRUPTED)));
         }
-        warn_failures(&rows);
+        eprintln!("no plot was drawn");
+        return Ok(Err(report_interrupt(&out, jobs.len())));
     }
+    warn_failures(&failed, out.written);
     drop(out);
     if replace {
         std::fs::rename(&target, csv_path)
@@ -430,18 +410,19 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             write_plot(&plot, &file(".svg"), &file(".png"))?;
         }
         FigureKind::SlipMap => {
-            if redraw {
-                eprintln!("note: a slip map is one run (under a second): {stem} is recomputed, not read from --from");
-            }
-            let case = single_case(&args, &preset)?;
-            let map = slip_map(&case).map_err(|e| input(e.into()))?;
-            if !redraw {
-                let meta = case_metadata("slip-map", &case, &case.initial.name()).render();
-                write(&file(".csv"), &(meta.clone() + &map.csv()))?;
-                write(&file("_load.csv"), &(meta + &map.load_csv()))?;
-                written.push(file(".csv"));
-                written.push(file("_load.csv"));
-            }
+            let map = match &args.from {
+                Some(f) => read_slip_map_files(f)?,
+                None => {
+                    let case = single_case(&args, &preset)?;
+                    let map = slip_map(&case).map_err(|e| input(e.into()))?;
+                    let meta = slip_map_metadata(&case, &map).render();
+                    write(&file(".csv"), &(meta.clone() + &map.csv()))?;
+                    write(&file("_load.csv"), &(meta + &map.load_csv()))?;
+                    written.push(file(".csv"));
+                    written.push(file("_load.csv"));
+                    map
+                }
+            };
             describe(&map)?;
             let plot = SlipMapPlot {
                 map: &map,
@@ -592,6 +573,40 @@ fn parse_memory_csv(text: &str) -> std::result::Result<Vec<MemoryPoint>, String>
         });
     }
     Ok(out)
+}
+
+/// The load table beside a slip map's CSV: `NAME_load.csv` for `NAME.csv`.
+fn load_file_of(map: &Path) -> PathBuf {
+    let stem = map
+        .file_stem()
+        .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    map.with_file_name(format!("{stem}_load.csv"))
+}
+
+/// A slip map read back from the CSV `from` and its load table beside it
+/// (`NAME_load.csv`), as `figure fig5` (or `fig7`) wrote them: nothing is
+/// run. A file that is not such a table, or is cut short, is bad input
+/// named in one line.
+fn read_slip_map_files(from: &Path) -> Result<SlipMap> {
+    let load = load_file_of(from);
+    let map_text = read("--from", from)?;
+    let load_text = std::fs::read_to_string(&load).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--from {}: cannot read its load table {}: {e}",
+            from.display(),
+            load.display()
+        )))
+    })?;
+    read_slip_map(&map_text, &load_text).map_err(|e| {
+        let file = match e.file {
+            SlipMapFile::Map => from,
+            SlipMapFile::Load => &load,
+        };
+        anyhow!(InputError(format!(
+            "--from {}: cannot redraw a slip map from it: {e}",
+            file.display()
+        )))
+    })
 }
 
 fn describe(map: &SlipMap) -> Result<()> {

@@ -1,23 +1,20 @@
 //! `shakedown sweep`: a grid of runs written as CSV, row by row in job
 //! order, so that an interrupted file can be resumed and shards merged.
 
-use std::io::IsTerminal;
 use std::process::ExitCode;
 
 use anyhow::{anyhow, Result};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use shakedown::analysis::case::{Case, CaseError, CaseParams};
 use shakedown::analysis::sweep::SweepLists;
-use shakedown::analysis::sweep::{Job, Row, SweepSpec, MAX_RUNS};
+use shakedown::analysis::sweep::{Job, SweepSpec, MAX_RUNS};
 use shakedown::io::batch::Shard;
-use shakedown::io::csv::sweep_metadata;
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::model::path::Initial;
 
 use std::path::Path;
 
-use super::batch::{ctrl_c, is_broken_pipe, refuse_input_as_output, report_interrupt, Output};
+use super::batch::{is_broken_pipe, refuse_input_as_output, report_interrupt, stream_sweep};
 use super::{bad_flag, case_error, load_preset, ModelArgs};
 
 /// The CSV header: `lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle`.
@@ -176,36 +173,18 @@ pub fn check_grid_size(lambdas: usize, phis: usize, initials: usize) -> Result<(
     Ok(())
 }
 
-/// A progress bar on stderr when it is a terminal.
-pub fn progress(len: usize) -> ProgressBar {
-    if std::io::stderr().is_terminal() {
-        let b = ProgressBar::new(len as u64);
-        b.set_style(
-            ProgressStyle::with_template("{bar:40} {pos}/{len} runs  {elapsed} (eta {eta})")
-                .expect("valid template"),
-        );
-        b
-    } else {
-        ProgressBar::hidden()
-    }
-}
-
-/// Warn about runs that failed, with the distinct reasons.
-pub fn warn_failures(rows: &[Row]) {
-    let failed: Vec<String> = rows
-        .iter()
-        .filter_map(|r| r.outcome.as_ref().err().map(|e| e.to_string()))
-        .collect();
+/// Warn about the runs that failed (`failed`: each one's reason, of
+/// `total` runs), with the distinct reasons.
+pub fn warn_failures(failed: &[String], total: usize) {
     if failed.is_empty() {
         return;
     }
-    let mut reasons = failed.clone();
+    let mut reasons = failed.to_vec();
     reasons.sort();
     reasons.dedup();
     eprintln!(
-        "warning: {} of {} runs failed (state 'failed' in the CSV): {}",
+        "warning: {} of {total} runs failed (state 'failed' in the CSV): {}",
         failed.len(),
-        rows.len(),
         reasons.join("; ")
     );
 }
@@ -249,60 +228,38 @@ pub fn sweep(args: SweepArgs) -> Result<ExitCode> {
     if let (Some(out), Some(preset)) = (&args.out, &args.grid.preset) {
         refuse_input_as_output("--out", out, &[("--preset file", Path::new(preset))])?;
     }
-    let meta = sweep_metadata(&spec);
-    let mut out = Output::open(
+    let mut failed = 0;
+    let streamed = stream_sweep(
+        &spec,
+        &jobs,
+        &keys,
         args.out.as_deref(),
         args.resume,
         args.force,
-        &meta,
-        HEADER,
-        &keys,
-        row_key,
-    )?;
-    let todo = &jobs[out.kept..];
-    if out.kept > 0 {
-        eprintln!(
-            "resuming: {} of {} runs are already in {}",
-            out.kept,
-            jobs.len(),
-            out.describe()
-        );
-    }
-    if todo.is_empty() {
-        return Ok(ExitCode::SUCCESS);
-    }
-    let interrupt = ctrl_c()?;
-    let bar = progress(jobs.len());
-    bar.set_position(out.kept as u64);
-    bar.reset_eta();
-    let mut failed = 0;
-    let result = spec.run_ordered(todo, interrupt, |row| {
-        out.line(&row.csv_line())?;
-        bar.inc(1);
-        if let Err(e) = &row.outcome {
-            failed += 1;
-            bar.suspend(|| {
-                eprintln!(
-                    "warning: run lambda = {}, phi = {}, initial {} failed: {e}",
-                    row.job.load_factor, row.job.phase, row.initial
-                )
-            });
-        }
-        anyhow::Ok(())
-    });
-    bar.finish_and_clear();
-    match result {
+        |row, bar| {
+            if let Err(e) = &row.outcome {
+                failed += 1;
+                bar.suspend(|| {
+                    eprintln!(
+                        "warning: run lambda = {}, phi = {}, initial {} failed: {e}",
+                        row.job.load_factor, row.job.phase, row.initial
+                    )
+                });
+            }
+        },
+    );
+    let streamed = match streamed {
         Err(e) if is_broken_pipe(&e) => return Ok(ExitCode::SUCCESS),
         Err(e) => return Err(e),
-        Ok(progress) if !progress.is_complete() => {
-            return Ok(report_interrupt(&out, jobs.len()));
-        }
-        Ok(_) => {}
+        Ok(s) => s,
+    };
+    if !streamed.complete {
+        return Ok(report_interrupt(&streamed.out, jobs.len()));
     }
     if failed > 0 {
         eprintln!(
             "warning: {failed} of {} runs failed (state 'failed' in the CSV)",
-            todo.len()
+            streamed.out.written
         );
     }
     Ok(ExitCode::SUCCESS)
@@ -311,7 +268,7 @@ pub fn sweep(args: SweepArgs) -> Result<ExitCode> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use shakedown::analysis::sweep::{RowState, RunError};
+    use shakedown::analysis::sweep::{Row, RowState, RunError};
     use shakedown::stepping::StepError;
 
     #[test]

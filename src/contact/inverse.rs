@@ -21,11 +21,8 @@
 //! number of updates proportional to `k`, so the round-off that updates
 //! accumulate stays bounded and the amortised cost stays `O(k^2)`.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::lu::partial_pivoting::factor::{lu_in_place, lu_in_place_scratch};
-use faer::{MatMut, Par};
-
 use super::operators::Operators;
+use super::reduced::DenseLu;
 use super::solver::SlipDirection;
 
 const NONE: usize = usize::MAX;
@@ -55,10 +52,7 @@ pub(crate) struct SetInverse {
     row: Vec<f64>,
     v: Vec<f64>,
     w: Vec<f64>,
-    lu: Vec<f64>,
-    perm: Vec<usize>,
-    perm_inv: Vec<usize>,
-    stack: MemBuffer,
+    lu: DenseLu,
 }
 
 /// `a . b` in four lanes (a single running sum would not vectorise).
@@ -89,7 +83,6 @@ impl Clone for SetInverse {
 
 impl SetInverse {
     pub(crate) fn new(n: usize) -> Self {
-        let req = lu_in_place_scratch::<usize, f64>(n, n, Par::Seq, Default::default());
         Self {
             n,
             friction: f64::NAN,
@@ -104,10 +97,7 @@ impl SetInverse {
             row: vec![0.0; n],
             v: vec![0.0; n],
             w: vec![0.0; n],
-            lu: vec![0.0; n * n],
-            perm: vec![0; n],
-            perm_inv: vec![0; n],
-            stack: MemBuffer::new(req),
+            lu: DenseLu::new(n),
         }
     }
 
@@ -204,44 +194,18 @@ impl SetInverse {
         for (b, &col) in self.nodes.iter().enumerate() {
             let hcol = ops.hilbert_col(col);
             let dcol = ops.abs_derivative_col(col);
-            let out = &mut self.lu[b * k..(b + 1) * k];
+            let out = &mut self.lu.lu[b * k..(b + 1) * k];
             for ((o, &row), &sign) in out.iter_mut().zip(&self.nodes).zip(&self.signs) {
                 *o = -dcol[row] - friction * sign * hcol[row];
             }
         }
-        let m = MatMut::from_column_major_slice_mut(&mut self.lu[..k * k], k, k);
-        lu_in_place(
-            m,
-            &mut self.perm[..k],
-            &mut self.perm_inv[..k],
-            Par::Seq,
-            MemStack::new(&mut self.stack),
-            Default::default(),
-        );
-        // Columns of the inverse: solve P M = L U against unit vectors.
-        let lu = &self.lu[..k * k];
+        self.lu.factorise(k);
+        // Columns of the inverse: the solves against unit vectors.
         for c in 0..k {
             let x = &mut self.inv[c * n..c * n + k];
-            for (xi, &pi) in x.iter_mut().zip(&self.perm[..k]) {
-                *xi = if pi == c { 1.0 } else { 0.0 };
-            }
-            for j in 0..k {
-                let xj = x[j];
-                if xj != 0.0 {
-                    for (t, &l) in x[j + 1..].iter_mut().zip(&lu[j * k + j + 1..(j + 1) * k]) {
-                        *t -= l * xj;
-                    }
-                }
-            }
-            for j in (0..k).rev() {
-                let xj = x[j] / lu[j * k + j];
-                x[j] = xj;
-                if xj != 0.0 {
-                    for (t, &u) in x[..j].iter_mut().zip(&lu[j * k..j * k + j]) {
-                        *t -= u * xj;
-                    }
-                }
-            }
+            x.fill(0.0);
+            x[c] = 1.0;
+            self.lu.solve(x);
             if x.iter().any(|v| !v.is_finite()) {
                 return false;
             }

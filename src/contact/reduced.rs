@@ -31,8 +31,8 @@ const NONE: usize = usize::MAX;
 const MAX_RANK: usize = 24;
 
 /// A dense LU with partial pivoting on a reusable column-major buffer.
-struct DenseLu {
-    lu: Vec<f64>,
+pub(super) struct DenseLu {
+    pub(super) lu: Vec<f64>,
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
     dim: usize,
@@ -42,7 +42,7 @@ struct DenseLu {
 }
 
 impl DenseLu {
-    fn new(capacity: usize) -> Self {
+    pub(super) fn new(capacity: usize) -> Self {
         let req =
             lu_in_place_scratch::<usize, f64>(capacity, capacity, Par::Seq, Default::default())
                 .or(solve_in_place_scratch::<usize, f64>(capacity, 1, Par::Seq));
@@ -57,7 +57,7 @@ impl DenseLu {
     }
 
     /// Factorise the `dim x dim` matrix already written into `self.lu`.
-    fn factorise(&mut self, dim: usize) {
+    pub(super) fn factorise(&mut self, dim: usize) {
         self.dim = dim;
         let m = MatMut::from_column_major_slice_mut(&mut self.lu[..dim * dim], dim, dim);
         lu_in_place(
@@ -73,7 +73,7 @@ impl DenseLu {
     /// Overwrite `rhs` (length `dim`) with the solution: `P A = L U`, so
     /// `x = U^-1 L^-1 P b`, by column-oriented substitution (one vector:
     /// the blocked solve of the library costs more than the flops here).
-    fn solve(&mut self, rhs: &mut [f64]) {
+    pub(super) fn solve(&mut self, rhs: &mut [f64]) {
         let k = self.dim;
         let lu = &self.lu[..k * k];
         let x = &mut self.tmp[..k];

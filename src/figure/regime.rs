@@ -11,6 +11,7 @@ use plotters::prelude::*;
 use super::style::{font, legend, line_sample, s, Drawing, Mark, Pattern};
 use crate::analysis::regime::RegimeMap;
 use crate::io::preset::RatchettingMarkers;
+use crate::palette::{shade, Rgb, Shading};
 
 /// The regime map of one initial transient.
 pub struct RegimePlot<'a> {
@@ -28,11 +29,9 @@ pub struct RegimePlot<'a> {
 /// A paper figure's line on the map: name, ends, where its label goes.
 type PaperLine = (&'static str, Vec<(f64, f64)>, (f64, f64));
 
-/// `colour` darkened towards its own deep shade by `t` in `[0, 1]`.
-fn shade(c: RGBColor, t: f64) -> RGBColor {
-    let t = t.clamp(0.0, 1.0) * 0.45;
-    let f = |v: u8| (f64::from(v) * (1.0 - t)).round() as u8;
-    RGBColor(f(c.0), f(c.1), f(c.2))
+/// plotters' colour of a palette colour.
+fn rgb(c: Rgb) -> RGBColor {
+    RGBColor(c.0, c.1, c.2)
 }
 
 impl Drawing for RegimePlot<'_> {
@@ -69,8 +68,8 @@ impl Drawing for RegimePlot<'_> {
             .map_err(s)?;
 
         // Cells: the state's colour, darker for larger W (log scale).
-        let (wlo, whi) = map.dissipation_range().unwrap_or((1.0, 1.0));
-        let (llo, lhi) = (wlo.max(whi * 1e-6).log10(), whi.log10());
+        let whi = map.dissipation_range().map_or(1.0, |r| r.1);
+        let shading = Shading::of(map);
         let mut rects = Vec::with_capacity(nl * np);
         let mut present = Vec::new();
         for j in 0..np {
@@ -83,20 +82,10 @@ impl Drawing for RegimePlot<'_> {
                 if !present.contains(&mark) {
                     present.push(mark);
                 }
-                let t = if mark == Mark::Shakedown
-                    || mark == Mark::Ended
-                    || cell.dissipation.is_nan()
-                    || cell.dissipation <= 0.0
-                    || lhi <= llo
-                {
-                    0.0
-                } else {
-                    (cell.dissipation.log10().max(llo) - llo) / (lhi - llo)
-                };
                 let ((a, b), (c, d)) = map.cell_bounds(i, j);
                 rects.push(Rectangle::new(
                     [(a, c / PI), (b, d / PI)],
-                    shade(mark.map_colour(), t).filled(),
+                    rgb(shading.colour(&cell)).filled(),
                 ));
             }
         }
@@ -176,7 +165,7 @@ impl Drawing for RegimePlot<'_> {
                 let x = 10 + 18 * k as i32;
                 key.draw(&Rectangle::new(
                     [(x, y), (x + 16, y + 16)],
-                    shade(mark.map_colour(), t).filled(),
+                    rgb(shade(mark.map_colour(), t)).filled(),
                 ))
                 .map_err(s)?;
             }
@@ -192,7 +181,11 @@ impl Drawing for RegimePlot<'_> {
         y += 14;
         for line in [
             "Shading: darker is larger W,".to_string(),
-            format!("log scale from {:.0e} to {:.0e}.", 10f64.powf(llo), whi),
+            format!(
+                "log scale from {:.0e} to {:.0e}.",
+                10f64.powf(shading.lo),
+                whi
+            ),
             "Dotted: the lines of the".to_string(),
             "paper's Figs. 3, 6 and 8.".to_string(),
         ] {

@@ -282,16 +282,18 @@ impl Mark {
     }
 
     /// The fill colour of this state on a map (the regime map): the
-    /// marker's dominant colour, so the map reads like the paper's plots.
-    pub(crate) fn map_colour(self) -> RGBColor {
-        match self {
-            Mark::Shakedown => RGBColor(235, 235, 235),
-            Mark::CyclicSlip => RGBColor(240, 130, 110),
-            Mark::Ratchetting | Mark::Monotonic => RGBColor(110, 160, 240),
-            Mark::NonMonotonic => RGBColor(175, 125, 215),
-            Mark::Ended => RGBColor(110, 110, 110),
-            Mark::NotConverged => RGBColor(250, 210, 120),
-        }
+    /// marker's dominant colour, so the map reads like the paper's plots
+    /// ([`crate::palette::map_colour`], which the terminal shares).
+    pub(crate) fn map_colour(self) -> crate::palette::Rgb {
+        let state = match self {
+            Mark::Shakedown => SteadyState::Shakedown,
+            Mark::CyclicSlip => SteadyState::CyclicSlip,
+            Mark::Ratchetting | Mark::Monotonic => SteadyState::RatchettingMonotonic,
+            Mark::NonMonotonic => SteadyState::RatchettingNonMonotonic,
+            Mark::Ended => SteadyState::GrossSlip,
+            Mark::NotConverged => SteadyState::NotConverged,
+        };
+        crate::palette::map_colour(Some(state))
     }
 }
 

@@ -19,6 +19,7 @@ use super::history::History;
 pub use super::history::{Detail, Record, BACKWARD, DIRECTION_MASK, FORWARD, NEWLY_STUCK, STICK};
 use super::keys::{self, Action, Mode};
 use super::log::{EventKind, Filter, LogEntry, KINDS, MIN_NODES};
+use super::regime::{CurveState, Regime, RegimeSource};
 use super::sweep::{LimitState, Sweep, SweepSource};
 use super::worker::{self, Command, Reply, Stopped, Worker};
 use crate::analysis::case::Case;
@@ -58,6 +59,9 @@ pub struct Config {
     pub color: bool,
     /// ASCII only: no Braille, box drawing or Greek letters.
     pub ascii: bool,
+    /// The terminal shows 24-bit colour (`COLORTERM=truecolor`): the
+    /// regime map's state colours are exact, else the nearest of the 256.
+    pub truecolor: bool,
     /// Bytes the record of the run may use (`--history-mb`): the
     /// increments' history, the event log, the stepper's record of cycles
     /// and the `W` series share it.
@@ -71,9 +75,11 @@ impl Config {
     pub fn from_env() -> Self {
         let no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
         let term = std::env::var("TERM").unwrap_or_default();
+        let colorterm = std::env::var("COLORTERM").unwrap_or_default();
         Self {
             color: !no_color,
             ascii: matches!(term.as_str(), "linux" | "vt100" | "vt102" | "dumb"),
+            truecolor: matches!(colorterm.as_str(), "truecolor" | "24bit"),
             history_bytes: DEFAULT_HISTORY_MB << 20,
         }
     }
@@ -84,6 +90,7 @@ impl Default for Config {
         Self {
             color: true,
             ascii: false,
+            truecolor: true,
             history_bytes: DEFAULT_HISTORY_MB << 20,
         }
     }
@@ -97,6 +104,9 @@ pub enum View {
     Stepping,
     /// The sweep's map over `lambda` (or `phi`), filled in the background.
     Sweep,
+    /// The sweep view's regime map: the steady state over `(lambda, phi)`
+    /// for one transient, computed while it is on screen.
+    Regime,
 }
 
 /// The preset the sweep view uses when the explorer was started without
@@ -179,6 +189,9 @@ pub struct App {
     failure: Option<String>,
     view: View,
     sweep: Result<Sweep, String>,
+    regime: Result<Regime, String>,
+    /// Where `g` in the regime map goes back to: the view it came from.
+    regime_back: View,
     sweep_log_w: bool,
     sweep_saved: bool,
     suspend: bool,
@@ -210,6 +223,7 @@ impl App {
                 paths.len() - 1
             }
         };
+        let regime = RegimeSource::builtin(&case).map(Regime::new);
         let mut app = Self {
             history: History::new(history_share(config.history_bytes)),
             config,
@@ -247,6 +261,8 @@ impl App {
             failure: None,
             view: View::Stepping,
             sweep: source.map(Sweep::new),
+            regime,
+            regime_back: View::Sweep,
             sweep_log_w: true,
             sweep_saved: false,
             suspend: false,
@@ -438,6 +454,7 @@ impl App {
     pub fn mode(&self) -> Mode {
         match self.view {
             View::Sweep => Mode::Sweep,
+            View::Regime => Mode::Regime,
             View::Stepping if self.log_open => Mode::Log,
             View::Stepping => Mode::Stepping,
         }
@@ -449,6 +466,20 @@ impl App {
     /// For tests and tools that feed rows in themselves.
     pub fn sweep_mut(&mut self) -> Option<&mut Sweep> {
         self.sweep.as_mut().ok()
+    }
+    /// The regime map of the sweep view, or why there is none.
+    pub fn regime(&self) -> Result<&Regime, &str> {
+        self.regime.as_ref().map_err(String::as_str)
+    }
+    /// For tests and tools that feed runs in themselves.
+    pub fn regime_mut(&mut self) -> Option<&mut Regime> {
+        self.regime.as_mut().ok()
+    }
+    /// Cover another grid with the regime map (the built-in
+    /// [`REGIME_PRESET`](super::regime::REGIME_PRESET)'s unless changed):
+    /// tests use a small one. The map it replaces is cancelled.
+    pub fn set_regime_source(&mut self, source: Result<RegimeSource, String>) {
+        self.regime = source.map(Regime::new);
     }
     /// Where `s` in the sweep view saves the map (the current directory
     /// unless changed).
@@ -504,6 +535,7 @@ impl App {
         match self.mode() {
             Mode::Log => self.move_log(delta as isize),
             Mode::Sweep => self.with_sweep_mut(|s| s.move_run(-delta as isize)),
+            Mode::Regime => self.with_regime_mut(|r| r.move_phase(-delta as isize)),
             Mode::Stepping => self.scrub(delta as isize),
         }
     }
@@ -630,6 +662,9 @@ impl App {
                     self.log_open = false;
                 } else if self.view == View::Sweep {
                     self.view = View::Stepping;
+                } else if self.view == View::Regime {
+                    self.pause_regime();
+                    self.view = View::Stepping;
                 } else if self.cursor.is_some() {
                     self.cursor = None;
                     self.notice = Some("live".into());
@@ -657,6 +692,110 @@ impl App {
                     self.restart_sweep();
                 }
             }
+            Action::ToggleRegime => self.toggle_regime(),
+            Action::RegimePrevLambda => self.with_regime_mut(|r| r.move_lambda(-1)),
+            Action::RegimeNextLambda => self.with_regime_mut(|r| r.move_lambda(1)),
+            Action::RegimePhaseDown => self.with_regime_mut(|r| r.move_phase(-1)),
+            Action::RegimePhaseUp => self.with_regime_mut(|r| r.move_phase(1)),
+            Action::RegimePageDown => self.with_regime_mut(|r| r.move_lambda(-10)),
+            Action::RegimePageUp => self.with_regime_mut(|r| r.move_lambda(10)),
+            Action::RegimeFirst => self.with_regime_mut(|r| r.move_lambda(-(isize::MAX / 2))),
+            Action::RegimeLast => self.with_regime_mut(|r| r.move_lambda(isize::MAX / 2)),
+            Action::RegimeOpen => self.open_regime_cell(),
+            Action::RegimePrevPath => self.regime_path(self.paths.len() - 1),
+            Action::RegimeNextPath => self.regime_path(1),
+            Action::RegimeRestart => {
+                if let Ok(r) = &mut self.regime {
+                    r.restart();
+                    self.notice = Some(format!(
+                        "regime map of {}: computing again",
+                        r.initial().name()
+                    ));
+                }
+            }
+        }
+    }
+
+    /// `g`: the regime map, from the stepping view or the sweep's `W`
+    /// plot, and back to where it came from. The map computes only while
+    /// it is shown.
+    fn toggle_regime(&mut self) {
+        match self.view {
+            View::Regime => {
+                self.pause_regime();
+                self.view = self.regime_back;
+            }
+            from => {
+                self.regime_back = from;
+                self.view = View::Regime;
+                self.log_open = false;
+                self.help = false;
+                let (lambda, phi) = (self.load_factor(), self.phase());
+                match &mut self.regime {
+                    Ok(r) => {
+                        if !r.started() {
+                            r.move_near(lambda, phi);
+                        }
+                        r.start();
+                        self.notice = Some(if r.is_running() {
+                            format!(
+                                "regime map of {}: {} of {} runs to do, in the background",
+                                r.initial().name(),
+                                r.total() - r.done(),
+                                r.total()
+                            )
+                        } else {
+                            format!("regime map of {}", r.initial().name())
+                        });
+                    }
+                    Err(e) => self.notice = Some(format!("no regime map: {e}")),
+                }
+            }
+        }
+    }
+
+    /// The map left: its runs stop (the cells done are kept).
+    fn pause_regime(&mut self) {
+        if let Ok(r) = &mut self.regime {
+            r.pause();
+        }
+    }
+
+    /// `[` `]` in the regime map: the map of another initial path, in the
+    /// order `[` and `]` go through them in the stepping view.
+    fn regime_path(&mut self, offset: usize) {
+        let Ok(r) = &mut self.regime else {
+            return;
+        };
+        let n = self.paths.len();
+        let i = self
+            .paths
+            .iter()
+            .position(|p| p == r.initial())
+            .map_or(0, |i| (i + offset) % n);
+        let initial = self.paths[i].clone();
+        let name = initial.name();
+        r.set_initial(initial, true);
+        self.notice = Some(match r.error() {
+            Some(e) => format!("no regime map of {name}: {e}"),
+            None => format!("regime map of {name}: computing"),
+        });
+    }
+
+    /// Enter in the regime map: the case under the cursor, with the map's
+    /// transient, in the stepping view.
+    fn open_regime_cell(&mut self) {
+        let Ok(r) = &self.regime else {
+            return;
+        };
+        let (lambda, phi) = r.selected();
+        let initial = r.initial().clone();
+        self.open_case(lambda, phi, initial);
+    }
+
+    fn with_regime_mut(&mut self, f: impl FnOnce(&mut Regime)) {
+        if let Ok(r) = &mut self.regime {
+            f(r);
         }
     }
 
@@ -689,6 +828,7 @@ impl App {
         if let Ok(s) = &mut self.sweep {
             s.cancel();
         }
+        self.pause_regime();
     }
 
     /// Quit with a status, from a signal.
@@ -917,6 +1057,10 @@ impl App {
         self.view = match self.view {
             View::Stepping => View::Sweep,
             View::Sweep => View::Stepping,
+            View::Regime => {
+                self.pause_regime();
+                View::Stepping
+            }
         };
         self.help = false;
         self.log_open = false;
@@ -1063,7 +1207,7 @@ impl App {
 
     /// What the worker should be doing now.
     fn wanted(&self) -> Option<worker::Goal> {
-        if self.view == View::Sweep || self.quit || self.failure.is_some() {
+        if self.view != View::Stepping || self.quit || self.failure.is_some() {
             return None;
         }
         match self.goal {
@@ -1108,6 +1252,9 @@ impl App {
         let deadline = Instant::now() + budget;
         if let Ok(s) = &mut self.sweep {
             s.poll();
+        }
+        if let Ok(r) = &mut self.regime {
+            r.poll();
         }
         self.started = true;
         self.sync();
@@ -1164,6 +1311,11 @@ impl App {
     pub fn is_busy(&self) -> bool {
         if self.sweep.as_ref().is_ok_and(|s| {
             s.is_running() || s.started() && matches!(s.limit(), LimitState::Computing)
+        }) {
+            return true;
+        }
+        if self.regime.as_ref().is_ok_and(|r| {
+            r.is_running() || r.started() && matches!(r.curve(), CurveState::Computing)
         }) {
             return true;
         }
@@ -1331,14 +1483,22 @@ impl App {
             },
             other => other.clone(),
         };
+        self.open_case(job.load_factor, job.phase, initial);
+    }
+
+    /// Step the case `(lambda, phi)` with the transient `initial` (the
+    /// explorer's model otherwise) in the stepping view, from the start:
+    /// what Enter in the sweep view and in the regime map does.
+    fn open_case(&mut self, load_factor: f64, phase: f64, initial: Initial) {
         let c = &self.case.cycle;
-        let cycle = match Cycle::new(c.center(), job.load_factor, c.slope(), job.phase) {
+        let cycle = match Cycle::new(c.center(), load_factor, c.slope(), phase) {
             Ok(cycle) => cycle,
             Err(e) => {
                 self.notice = Some(e.to_string());
                 return;
             }
         };
+        self.pause_regime();
         self.case.cycle = cycle;
         self.path_index = match self.paths.iter().position(|p| *p == initial) {
             Some(i) => i,
@@ -1352,8 +1512,8 @@ impl App {
         self.running = true;
         let what = format!(
             "opened lambda {}, phi {}, path {}",
-            format_load_factor(job.load_factor),
-            format_phase(job.phase),
+            format_load_factor(load_factor),
+            format_phase(phase),
             self.case.initial.name()
         );
         self.restart(&what);

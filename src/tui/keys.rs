@@ -126,6 +126,34 @@ pub enum Action {
     OpenRun,
     /// Sweep `r`: run the sweep again (asks first if the map would be lost).
     RestartSweep,
+    /// `g`: from the stepping view or the sweep's `W` plot to the regime
+    /// map over `(lambda, phi)`, and back.
+    ToggleRegime,
+    /// Regime map: the previous `lambda`.
+    RegimePrevLambda,
+    /// Regime map: the next `lambda`.
+    RegimeNextLambda,
+    /// Regime map: the next smaller `phi` (down the map).
+    RegimePhaseDown,
+    /// Regime map: the next larger `phi` (up the map).
+    RegimePhaseUp,
+    /// Regime map: ten `lambda` back (left).
+    RegimePageDown,
+    /// Regime map: ten `lambda` on (right).
+    RegimePageUp,
+    /// Regime map: the first `lambda`.
+    RegimeFirst,
+    /// Regime map: the last `lambda`.
+    RegimeLast,
+    /// Regime map Enter: open the case under the cursor in the stepping
+    /// view.
+    RegimeOpen,
+    /// Regime map `[`: the map of the previous initial path.
+    RegimePrevPath,
+    /// Regime map `]`: the map of the next initial path.
+    RegimeNextPath,
+    /// Regime map `r`: compute the map again.
+    RegimeRestart,
 }
 
 /// Which key table applies: a view, or the event log over the stepping
@@ -138,10 +166,12 @@ pub enum Mode {
     Sweep,
     /// The event log's keys, over the stepping view.
     Log,
+    /// The regime map's keys, in the sweep view.
+    Regime,
 }
 
 /// All the modes, for the help and the tests.
-pub const MODES: [Mode; 3] = [Mode::Stepping, Mode::Log, Mode::Sweep];
+pub const MODES: [Mode; 4] = [Mode::Stepping, Mode::Log, Mode::Sweep, Mode::Regime];
 
 /// The modes a binding works in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -154,6 +184,8 @@ pub enum Scope {
     Sweep,
     /// The event log only.
     Log,
+    /// The regime map only.
+    Regime,
 }
 
 impl Scope {
@@ -165,6 +197,7 @@ impl Scope {
                 | (Scope::Stepping, Mode::Stepping)
                 | (Scope::Sweep, Mode::Sweep)
                 | (Scope::Log, Mode::Log)
+                | (Scope::Regime, Mode::Regime)
         )
     }
 }
@@ -424,6 +457,13 @@ pub const BINDINGS: &[Binding] = &[
         scope: Scope::Stepping,
     },
     Binding {
+        keys: &[ch('g')],
+        label: "g",
+        action: Action::ToggleRegime,
+        help: "regime map over (lambda, phi)",
+        scope: Scope::Stepping,
+    },
+    Binding {
         keys: &[ch('p')],
         label: "p",
         action: Action::Pin,
@@ -569,6 +609,104 @@ pub const BINDINGS: &[Binding] = &[
         action: Action::RestartSweep,
         help: "rerun the sweep (asks first)",
         scope: Scope::Sweep,
+    },
+    Binding {
+        keys: &[ch('g')],
+        label: "g",
+        action: Action::ToggleRegime,
+        help: "regime map over (lambda, phi)",
+        scope: Scope::Sweep,
+    },
+    Binding {
+        keys: &[key(KeyCode::Left)],
+        label: "←",
+        action: Action::RegimePrevLambda,
+        help: "previous lambda",
+        scope: Scope::Regime,
+    },
+    Binding {
+        keys: &[key(KeyCode::Right)],
+        label: "→",
+        action: Action::RegimeNextLambda,
+        help: "next lambda",
+        scope: Scope::Regime,
+    },
+    Binding {
+        keys: &[key(KeyCode::Down)],
+        label: "↓",
+        action: Action::RegimePhaseDown,
+        help: "smaller phi",
+        scope: Scope::Regime,
+    },
+    Binding {
+        keys: &[key(KeyCode::Up)],
+        label: "↑",
+        action: Action::RegimePhaseUp,
+        help: "larger phi",
+        scope: Scope::Regime,
+    },
+    Binding {
+        keys: &[key(KeyCode::PageDown)],
+        label: "PgDn",
+        action: Action::RegimePageDown,
+        help: "ten lambdas left",
+        scope: Scope::Regime,
+    },
+    Binding {
+        keys: &[key(KeyCode::PageUp)],
+        label: "PgUp",
+        action: Action::RegimePageUp,
+        help: "ten lambdas right",
+        scope: Scope::Regime,
+    },
+    Binding {
+        keys: &[key(KeyCode::Home)],
+        label: "Home",
+        action: Action::RegimeFirst,
+        help: "first lambda",
+        scope: Scope::Regime,
+    },
+    Binding {
+        keys: &[key(KeyCode::End)],
+        label: "End",
+        action: Action::RegimeLast,
+        help: "last lambda",
+        scope: Scope::Regime,
+    },
+    Binding {
+        keys: &[key(KeyCode::Enter)],
+        label: "Enter",
+        action: Action::RegimeOpen,
+        help: "open this (lambda, phi) case",
+        scope: Scope::Regime,
+    },
+    Binding {
+        keys: &[ch('[')],
+        label: "[",
+        action: Action::RegimePrevPath,
+        help: "map of the previous path",
+        scope: Scope::Regime,
+    },
+    Binding {
+        keys: &[ch(']')],
+        label: "]",
+        action: Action::RegimeNextPath,
+        help: "map of the next path",
+        scope: Scope::Regime,
+    },
+    Binding {
+        keys: &[ch('r')],
+        label: "r",
+        action: Action::RegimeRestart,
+        help: "compute the map again",
+        scope: Scope::Regime,
+    },
+    Binding {
+        keys: &[ch('g')],
+        label: "g",
+        action: Action::ToggleRegime,
+        help: "back to the view before",
+        scope: Scope::Regime,
     },
     Binding {
         keys: &[ch('v'), key(KeyCode::Tab)],

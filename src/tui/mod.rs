@@ -1,10 +1,12 @@
 //! The terminal explorer: live stepping of the contact, and a sweep view
-//! whose map of `W` fills in as a background sweep runs.
+//! whose map of `W` fills in as a background sweep runs, with the regime
+//! map over `(lambda, phi)` one key away.
 //!
 //! [`app`] is the state machine (no I/O); [`worker`] the thread that owns
 //! the stepper; [`history`] the record of the run within its memory
 //! budget; [`log`] the event log and its filters; [`sweep`] the sweep
-//! view's state and its background threads; [`keys`] the one key table;
+//! view's state and its background threads; [`regime`] the regime map's
+//! state and its cancellable computation; [`keys`] the one key table;
 //! [`event`] the loop's inputs; [`terminal`] setup, restore and signals;
 //! [`format`] how numbers are written; and [`ui`] the panels, one widget
 //! each. The loop here takes what the worker sent, draws, and answers keys.
@@ -15,6 +17,7 @@ pub mod format;
 pub mod history;
 pub mod keys;
 pub mod log;
+pub mod regime;
 pub mod sweep;
 pub mod terminal;
 pub mod ui;

@@ -105,9 +105,35 @@ pub fn signals() -> Arc<AtomicUsize> {
             // Failure leaves that signal's default action; the keys work.
             let _ = signal_hook::flag::register_usize(sig, Arc::clone(&flag), sig as usize);
         }
+        watchdog();
         flag
     })
     .clone()
+}
+
+/// How long the loop has to act on SIGTERM, SIGHUP or SIGQUIT before the
+/// watchdog restores the terminal and exits on its own.
+const EXIT_GRACE: std::time::Duration = std::time::Duration::from_millis(1500);
+
+/// The loop acts on an exit signal within a frame. But when the terminal
+/// itself is gone (an SSH connection dropped, the tmux server killed),
+/// crossterm's input poll can spin on end-of-file and never return, and the
+/// explorer would run on for ever without a terminal. So a thread waits for
+/// the same signals and, if the process is still alive after
+/// [`EXIT_GRACE`], restores what it can and exits with `128 + signal`.
+fn watchdog() {
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGTERM, SIGHUP, SIGQUIT]) else {
+        return;
+    };
+    let _ = std::thread::Builder::new()
+        .name("shakedown-signals".into())
+        .spawn(move || {
+            if let Some(sig) = signals.forever().next() {
+                std::thread::sleep(EXIT_GRACE);
+                restore();
+                std::process::exit(128 + sig);
+            }
+        });
 }
 
 /// Take the pending signal, if any.

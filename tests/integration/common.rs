@@ -204,3 +204,22 @@ pub fn fake_rows(
         })
         .collect()
 }
+
+/// A regime map small enough for a test: 3 lambdas x 2 phases on a coarse
+/// contact (32 nodes, 100 increments per cycle), seconds at most.
+pub fn tiny_regime_source() -> shakedown::tui::regime::RegimeSource {
+    use shakedown::analysis::case::{Case, CaseParams};
+    let params = CaseParams {
+        nodes: 32,
+        steps: 100,
+        ..CaseParams::default()
+    };
+    let case = Case::from_params(&params).expect("a valid tiny case");
+    shakedown::tui::regime::RegimeSource::new(
+        "tiny",
+        &case,
+        vec![4.0, 5.5, 7.0],
+        vec![0.0, std::f64::consts::FRAC_PI_2],
+    )
+    .expect("a valid tiny grid")
+}

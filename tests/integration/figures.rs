@@ -303,6 +303,124 @@ fn figure_from_csv_redraws_the_same_plot_without_running() {
     assert!(svg.contains("(b) the memory"), "no log panel");
 }
 
+/// `figure fig5 --from` and `fig7 --from` read the slip map back from the
+/// CSVs the figure wrote (nothing is run) and draw the same SVG, byte for
+/// byte; the model flags do not matter then.
+#[test]
+fn slip_map_from_csv_redraws_the_same_plot_without_running() {
+    for name in ["fig5", "fig7"] {
+        let dir = scratch(&format!("{name}_from"));
+        let d = dir.to_str().unwrap();
+        run_ok(&[&["figure", name, "--out", d][..], &TINY].concat());
+        let svg = std::fs::read_to_string(dir.join(format!("{name}.svg"))).unwrap();
+        let again = scratch(&format!("{name}_from_again"));
+        let csv = dir.join(format!("{name}.csv"));
+        let out = run_ok(&[
+            "figure",
+            name,
+            "--from",
+            csv.to_str().unwrap(),
+            "--out",
+            again.to_str().unwrap(),
+            "--nodes",
+            "16",
+        ]);
+        assert!(out.contains("steady state:"), "{out}");
+        assert_eq!(
+            std::fs::read_to_string(again.join(format!("{name}.svg"))).unwrap(),
+            svg,
+            "{name}: the redraw differs"
+        );
+        assert!(
+            !again.join(format!("{name}.csv")).exists(),
+            "--from writes no CSV"
+        );
+        assert!(!again.join(format!("{name}_load.csv")).exists());
+        let _ = std::fs::remove_dir_all(&again);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+/// A CSV that is not a slip map of this version, or is cut short, is
+/// refused in one line naming the file, with status 2.
+#[test]
+fn slip_map_from_a_bad_csv_is_a_one_line_error() {
+    let dir = scratch("fig5_bad_from");
+    let d = dir.to_str().unwrap();
+    run_ok(&[&["figure", "fig5", "--out", d][..], &TINY].concat());
+    let map = std::fs::read_to_string(dir.join("fig5.csv")).unwrap();
+    let load = std::fs::read_to_string(dir.join("fig5_load.csv")).unwrap();
+    let sweep = dir.join("sweep.csv");
+    run_ok(&[
+        "sweep",
+        "--lambda",
+        "5",
+        "--nodes",
+        "16",
+        "--steps",
+        "50",
+        "--out",
+        sweep.to_str().unwrap(),
+    ]);
+    let sweep = std::fs::read_to_string(&sweep).unwrap();
+    let cut_lines: String = map.split_inclusive('\n').take(40).collect();
+    let cases: [(&str, String, String, &str); 6] = [
+        ("kind", sweep.clone(), sweep, "not a slip map"),
+        (
+            "version",
+            map.replacen("# shakedown = ", "# shakedown = 0.0.0-", 1),
+            load.clone(),
+            "written by shakedown 0.0.0-",
+        ),
+        (
+            "foreign",
+            map.lines()
+                .filter(|l| !l.starts_with('#'))
+                .map(|l| format!("{l}\n"))
+                .collect(),
+            load.clone(),
+            "not an output of shakedown",
+        ),
+        (
+            "cut",
+            map[..map.len() / 2].to_string(),
+            load.clone(),
+            "cut short",
+        ),
+        ("rows", cut_lines, load.clone(), "cut short or was edited"),
+        (
+            "other-run",
+            map.clone(),
+            load.replacen("# lambda = ", "# lambda = 1", 1),
+            "differs from the map's",
+        ),
+    ];
+    for (what, map_text, load_text, says) in cases {
+        let file = dir.join(format!("{what}.csv"));
+        std::fs::write(&file, map_text).unwrap();
+        std::fs::write(dir.join(format!("{what}_load.csv")), load_text).unwrap();
+        let o = shakedown(&[
+            "figure",
+            "fig5",
+            "--from",
+            file.to_str().unwrap(),
+            "--out",
+            d,
+        ]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{what}: {e}");
+        assert_eq!(e.lines().count(), 1, "{what}: {e}");
+        assert!(e.contains(what) && e.contains(says), "{what}: {e}");
+    }
+    // Without its load table beside it.
+    std::fs::remove_file(dir.join("cut_load.csv")).unwrap();
+    let cut = dir.join("cut.csv");
+    let o = shakedown(&["figure", "fig5", "--from", cut.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("cut_load.csv"), "{}", stderr(&o));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 #[test]
 fn figure_resume_finishes_an_interrupted_csv() {
     let dir = scratch("fig9_resume");

@@ -16,5 +16,6 @@ mod presets;
 mod solver_props;
 mod sweep_determinism;
 mod tui_keys;
+mod tui_maps;
 mod tui_snapshots;
 mod verdicts;

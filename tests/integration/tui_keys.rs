@@ -15,11 +15,13 @@ use shakedown::tui::{default_params, ui};
 
 use crate::common;
 
-/// The default case, with a tiny sweep for the sweep view so that keys
-/// which start it do not start a full preset's.
+/// The default case, with a tiny sweep for the sweep view (and a tiny
+/// regime map) so that keys which start them do not start a full preset's.
 fn app() -> App {
     let case = Case::from_params(&default_params()).expect("the default case is valid");
-    App::with_sweep(case, Config::default(), Ok(common::tiny_sweep_source()))
+    let mut app = App::with_sweep(case, Config::default(), Ok(common::tiny_sweep_source()));
+    app.set_regime_source(Ok(common::tiny_regime_source()));
+    app
 }
 
 fn press(app: &mut App, code: KeyCode, modifiers: KeyModifiers) {
@@ -57,6 +59,7 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
     app.advance(50);
     let view = match mode {
         Mode::Sweep => View::Sweep,
+        Mode::Regime => View::Regime,
         _ => View::Stepping,
     };
     app.show_view(view);
@@ -369,7 +372,7 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
             handle(&mut app);
             let other = match view {
                 View::Stepping => View::Sweep,
-                View::Sweep => View::Stepping,
+                View::Sweep | View::Regime => View::Stepping,
             };
             assert_eq!(app.view(), other);
             if other == View::Sweep {
@@ -379,7 +382,97 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
                 );
             }
             handle(&mut app);
-            assert_eq!(app.view(), view);
+            // The regime map is one key (g) away from the sweep view.
+            let back = if view == View::Regime {
+                View::Sweep
+            } else {
+                view
+            };
+            assert_eq!(app.view(), back);
+        }
+        Action::ToggleRegime => {
+            handle(&mut app);
+            if view == View::Regime {
+                // Shown directly: back to the sweep view, and in again.
+                assert_eq!(app.view(), View::Sweep);
+                handle(&mut app);
+                assert_eq!(app.view(), View::Regime);
+            } else {
+                assert_eq!(app.view(), View::Regime);
+                let r = app.regime().unwrap();
+                assert!(r.started() && r.is_running(), "the map computes when shown");
+                handle(&mut app);
+                assert_eq!(app.view(), view, "g goes back where it came from");
+                assert!(!app.regime().unwrap().is_running(), "and only then");
+            }
+        }
+        Action::RegimePrevLambda | Action::RegimeNextLambda => {
+            // Three lambdas: start in the middle so both ways move.
+            app.apply(Action::RegimeNextLambda);
+            handle(&mut app);
+            let expected = if action == Action::RegimeNextLambda {
+                2
+            } else {
+                0
+            };
+            assert_eq!(app.regime().unwrap().cursor(), (expected, 0));
+            handle(&mut app);
+            assert_eq!(app.regime().unwrap().cursor(), (expected, 0), "clamped");
+        }
+        Action::RegimePhaseUp => {
+            handle(&mut app);
+            assert_eq!(app.regime().unwrap().cursor(), (0, 1));
+            handle(&mut app);
+            assert_eq!(app.regime().unwrap().cursor(), (0, 1), "clamped");
+        }
+        Action::RegimePhaseDown => {
+            app.apply(Action::RegimePhaseUp);
+            handle(&mut app);
+            assert_eq!(app.regime().unwrap().cursor(), (0, 0));
+        }
+        Action::RegimePageUp | Action::RegimeLast => {
+            handle(&mut app);
+            assert_eq!(app.regime().unwrap().cursor(), (2, 0));
+        }
+        Action::RegimePageDown | Action::RegimeFirst => {
+            app.apply(Action::RegimeLast);
+            handle(&mut app);
+            assert_eq!(app.regime().unwrap().cursor(), (0, 0));
+        }
+        Action::RegimeOpen => {
+            app.apply(Action::RegimeNextLambda);
+            app.apply(Action::RegimePhaseUp);
+            handle(&mut app);
+            assert_eq!(app.view(), View::Stepping);
+            assert_eq!(app.load_factor(), 5.5);
+            assert_eq!(app.phase(), PI / 2.0);
+            assert_eq!(app.case().initial.name(), "OA");
+            assert_eq!(app.paths()[app.path_index()].name(), "OA");
+            assert!(app.is_running());
+            assert_eq!(app.increments(), 0);
+            let notice = app.notice().unwrap_or_default();
+            assert!(notice.contains("opened lambda 5.50, phi pi/2"), "{notice}");
+        }
+        Action::RegimePrevPath | Action::RegimeNextPath => {
+            assert_eq!(app.regime().unwrap().initial().name(), "OA");
+            handle(&mut app);
+            let n = app.paths().len();
+            let expected = if action == Action::RegimeNextPath {
+                1
+            } else {
+                n - 1
+            };
+            let r = app.regime().unwrap();
+            assert_eq!(r.initial(), &app.paths()[expected]);
+            assert_eq!(r.done(), 0, "the map of another path starts empty");
+            assert!(r.is_running());
+        }
+        Action::RegimeRestart => {
+            handle(&mut app);
+            let r = app.regime().unwrap();
+            assert!(r.is_running());
+            assert_eq!(r.done(), 0);
+            assert!(app.notice().unwrap_or_default().contains("again"));
         }
         Action::SweepPrevX | Action::SweepNextX => {
             // Three lambdas: start in the middle so both ways move.

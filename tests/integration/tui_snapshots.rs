@@ -329,6 +329,7 @@ fn every_mode_lists_every_key_at_80x24() {
     for mode in MODES {
         match mode {
             Mode::Sweep => app.show_view(View::Sweep),
+            Mode::Regime => app.show_view(View::Regime),
             Mode::Log => {
                 app.show_view(View::Stepping);
                 app.apply(Action::ToggleLog);

@@ -92,12 +92,14 @@ impl Widget for Help<'_> {
             Mode::Stepping => " Keys: stepping view ",
             Mode::Sweep => " Keys: sweep view ",
             Mode::Log => " Keys: event log ",
+            Mode::Regime => " Keys: regime map ",
         };
         // The mouse wheel is no key, but says what it does here too.
         let wheel = match self.mode {
             Mode::Stepping => " wheel: history · ? or Esc closes ",
             Mode::Sweep => " wheel: transients · ? or Esc closes ",
             Mode::Log => " wheel: the log · ? or Esc closes ",
+            Mode::Regime => " wheel: phi rows · ? or Esc closes ",
         };
         let foot = super::first_fitting(
             vec![

@@ -51,6 +51,11 @@ fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Them
         Initial::Via { a, b } => Some((a, b)),
         _ => None,
     };
+    // The points of a custom transient `O -> points -> A` (--initial-path).
+    let waypoints: Vec<(f64, f64)> = match &app.case().initial {
+        Initial::Custom(points) => points.iter().map(|p| (p.x(), p.y())).collect(),
+        _ => Vec::new(),
+    };
 
     let block = theme.panel(" Load plane ").title_bottom(
         TextLine::from(theme.sym(" x = χP/f, y = T/f ", " x = chi P/f, y = T/f "))
@@ -64,6 +69,7 @@ fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Them
             .copied()
             .chain(segments.iter().flat_map(|s| [(s.0, s.1), (s.2, s.3)]))
             .chain(std::iter::once((load_x, load_y)))
+            .chain(waypoints.iter().copied())
             .chain(terminal),
     );
 
@@ -134,6 +140,18 @@ fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Them
                 Span::styled("A", label_style),
             );
             ctx.print(0.0, 0.0, Span::styled("O", label_style));
+            // The custom path's points, numbered in path order when there
+            // are several.
+            let numbered = waypoints.len() > 1;
+            for (k, &(x, y)) in waypoints.iter().enumerate() {
+                let mark = theme.sym("◆", "*");
+                let text = if numbered {
+                    format!("{mark}{}", k + 1)
+                } else {
+                    mark.to_string()
+                };
+                ctx.print(x, y, Span::styled(text, selected_style));
+            }
             if let Some((x, y)) = terminal {
                 ctx.print(x, y, Span::styled("G", gross_style));
             }

@@ -5,6 +5,7 @@ mod dissipation;
 mod event_log;
 mod help;
 mod load_plane;
+mod regime_view;
 mod slip;
 mod slip_map;
 mod status;
@@ -30,7 +31,9 @@ pub const MIN_HEIGHT: u16 = 24;
 pub fn draw(frame: &mut Frame, app: &App) {
     let area = frame.area();
     let config = app.config();
-    let theme = Theme::new(config.color).with_ascii(config.ascii);
+    let theme = Theme::new(config.color)
+        .with_ascii(config.ascii)
+        .with_truecolor(config.truecolor);
     draw_screen(frame, area, app, &theme);
     if config.ascii {
         asciify(frame.buffer_mut());
@@ -44,6 +47,8 @@ fn draw_screen(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     }
     if app.view() == View::Sweep {
         sweep_view::render(frame, area, app, theme);
+    } else if app.view() == View::Regime {
+        regime_view::render(frame, area, app, theme);
     } else {
         let areas = Areas::new(area);
         let (app, theme) = (app, theme);
@@ -232,6 +237,7 @@ fn too_small(frame: &mut Frame, area: Rect, theme: &Theme) {
 pub struct Theme {
     color: bool,
     ascii: bool,
+    truecolor: bool,
 }
 
 impl Theme {
@@ -240,6 +246,35 @@ impl Theme {
         Self {
             color,
             ascii: false,
+            truecolor: true,
+        }
+    }
+
+    /// 24-bit colour, or the nearest of the 256 colours for terminals
+    /// without it.
+    pub fn with_truecolor(self, truecolor: bool) -> Self {
+        Self { truecolor, ..self }
+    }
+
+    /// A palette colour ([`crate::palette`]) as the terminal can show it:
+    /// exact in 24-bit colour, else the nearest of the 6x6x6 cube of the
+    /// 256 colours.
+    pub fn rgb(&self, c: crate::palette::Rgb) -> Color {
+        if self.truecolor {
+            Color::Rgb(c.0, c.1, c.2)
+        } else {
+            let level = |v: u8| (u16::from(v) * 5 + 127) / 255;
+            let index = 16 + 36 * level(c.0) + 6 * level(c.1) + level(c.2);
+            Color::Indexed(index as u8)
+        }
+    }
+
+    /// A style with background `c`, or the plain style when colour is off.
+    pub fn bg(&self, c: Color) -> Style {
+        if self.color {
+            Style::default().bg(c)
+        } else {
+            Style::default()
         }
     }
 

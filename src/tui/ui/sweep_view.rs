@@ -416,25 +416,67 @@ fn render_status(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let label = |s: &str| Span::styled(s.to_string(), theme.label());
     let mut line1 = vec![label(" sweep view")];
     if let Ok(s) = app.sweep() {
-        let state = if s.is_running() {
-            Span::styled("running in the background", theme.fg(Color::LightGreen))
-        } else if s.done() == s.total() {
-            Span::styled("done", theme.value())
-        } else if s.started() {
-            Span::styled("stopped", theme.alert())
-        } else {
-            Span::styled("not started", theme.alert())
-        };
-        line1.extend([
-            label(": "),
-            Span::styled(s.source().name.clone(), theme.value()),
-            label(format!(", {}/{} runs, ", s.done(), s.total()).as_str()),
-            state,
-        ]);
+        line1.extend(progress_spans(
+            theme,
+            ": ",
+            s.source().name.clone(),
+            (s.done(), s.total()),
+            (s.is_running(), s.started()),
+            ("running in the background", "stopped"),
+        ));
     }
+    line1.push(label("   g: regime map over (lambda, phi)"));
+    let hint = if area.width >= 100 {
+        " Esc back  ←→ PgUp PgDn Home End x  ↑↓ run  Enter open  w log W  s save  r rerun  ? help  q quit"
+    } else {
+        " Esc back  ←→ x  ↑↓ run  Enter open  w log W  s save  r rerun  ? help  q quit"
+    };
+    render_status_lines(frame, area, app, theme, line1, hint);
+}
+
+/// What a background computation has done: `join`, its `name`, `done` of
+/// `total` runs and its state: `running` (the first of `words`), done,
+/// stopped (the second) or not started.
+pub(super) fn progress_spans(
+    theme: &Theme,
+    join: &str,
+    name: String,
+    (done, total): (usize, usize),
+    (running, started): (bool, bool),
+    words: (&str, &str),
+) -> Vec<Span<'static>> {
+    let label = |s: String| Span::styled(s, theme.label());
+    let state = if running {
+        Span::styled(words.0.to_string(), theme.fg(Color::LightGreen))
+    } else if done == total {
+        Span::styled("done", theme.value())
+    } else if started {
+        Span::styled(words.1.to_string(), theme.alert())
+    } else {
+        Span::styled("not started", theme.alert())
+    };
+    vec![
+        label(join.to_string()),
+        Span::styled(name, theme.value()),
+        label(format!(", {done}/{total} runs, ")),
+        state,
+    ]
+}
+
+/// The three status lines of the sweep view and its regime map: `line1`
+/// (what is running), the question waiting for `y` or the last notice,
+/// and the keys (`hint`).
+pub(super) fn render_status_lines(
+    frame: &mut Frame,
+    area: Rect,
+    app: &App,
+    theme: &Theme,
+    line1: Vec<Span>,
+    hint: &str,
+) {
     let line2 = match app.confirm() {
         Some(crate::tui::app::Confirm::Quit(_)) => Line::from(Span::styled(
-            " the map is not saved (s saves): quit anyway? y/n",
+            " the sweep map is not saved (s saves): quit anyway? y/n",
             theme.error(),
         )),
         Some(crate::tui::app::Confirm::RestartSweep) => Line::from(Span::styled(
@@ -446,12 +488,7 @@ fn render_status(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             theme.alert(),
         )),
     };
-    let hint = if area.width >= 100 {
-        " Esc back  ←→ PgUp PgDn Home End x  ↑↓ run  Enter open  w log W  s save  r rerun  ? help  q quit"
-    } else {
-        " Esc back  ←→ x  ↑↓ run  Enter open  w log W  s save  r rerun  ? help  q quit"
-    };
-    let line3 = Line::from(Span::styled(hint, theme.label()));
+    let line3 = Line::from(Span::styled(hint.to_string(), theme.label()));
     frame.render_widget(
         Paragraph::new(vec![Line::from(line1), line2, line3]).style(Style::default()),
         area,
