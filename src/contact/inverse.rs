@@ -86,7 +86,9 @@ impl SetInverse {
         Self {
             n,
             friction: f64::NAN,
-            inv: vec![0.0; n * n],
+            // The N x N buffers wait for the first rebuild: a cloned or
+            // never-slipping contact does not pay for them.
+            inv: Vec::new(),
             nodes: Vec::with_capacity(n),
             signs: Vec::with_capacity(n),
             pos: vec![NONE; n],
@@ -97,7 +99,7 @@ impl SetInverse {
             row: vec![0.0; n],
             v: vec![0.0; n],
             w: vec![0.0; n],
-            lu: DenseLu::new(n),
+            lu: DenseLu::new(0),
         }
     }
 
@@ -189,6 +191,10 @@ impl SetInverse {
         if k == 0 {
             self.valid = true;
             return true;
+        }
+        if self.inv.len() < n * n {
+            self.inv = vec![0.0; n * n];
+            self.lu = DenseLu::new(n);
         }
         // Assemble M_SS column-major (k x k) and factorise it.
         for (b, &col) in self.nodes.iter().enumerate() {
