@@ -479,7 +479,14 @@ impl Contact {
                 if rate_solves_here > 2 {
                     return self.fallback(target, s, w);
                 }
+                let events_before = self.increment.events.len();
                 match self.rate_problem(w, dx, dy, s, remaining) {
+                    Ok(())
+                        if self.pause_at_events && self.increment.events.len() > events_before =>
+                    {
+                        // `reached` is already `s`: the event's point.
+                        return Ok(Advanced::Paused);
+                    }
                     Ok(()) => continue,
                     Err(RateFailure::Gross) => {
                         // All nodes at the limit a round-off short of
@@ -993,12 +1000,18 @@ impl Contact {
             self.directions.copy_from_slice(&e.dirs);
             self.increment.set_changed = true;
             let load = self.load;
-            let entered: Vec<usize> = (0..n)
-                .filter(|&j| !e.before[j].is_slipping() && e.dirs[j].is_slipping())
-                .collect();
-            let stuck: Vec<usize> = (0..n)
-                .filter(|&j| e.before[j].is_slipping() && e.dirs[j] != e.before[j])
-                .collect();
+            // One pass: a node that changed entered slip if it stuck
+            // before, and stuck (or turned) if it slipped.
+            let (mut entered, mut stuck) = (Vec::new(), Vec::new());
+            for (j, (b, d)) in e.before.iter().zip(&e.dirs).enumerate() {
+                if b != d {
+                    if b.is_slipping() {
+                        stuck.push(j);
+                    } else {
+                        entered.push(j);
+                    }
+                }
+            }
             for (kind, nodes) in [
                 (ContactEventKind::AdvancingStick, stuck),
                 (ContactEventKind::SlipEntry, entered),

@@ -117,6 +117,11 @@ pub enum Advanced {
     /// A physical end on the way; the contact is left at that point
     /// ([`Increment::reached`] tells how far along the segment).
     Ended(ContactEnd),
+    /// Stopped at an event (entry into slip, advancing stick) short of the
+    /// target, as [`Contact::set_pause_at_events`] asked. The contact is
+    /// left at the event's load point with the slip set decided there;
+    /// advancing to the same target again goes on along the same segment.
+    Paused,
 }
 
 impl Advanced {
@@ -272,6 +277,9 @@ pub struct Contact {
     pub(super) work: Option<Workspace>,
     /// What the last [`Contact::advance`] did.
     pub(super) increment: Increment,
+    /// Whether [`Contact::advance`] stops at each event (for a viewer that
+    /// pauses there).
+    pub(super) pause_at_events: bool,
 }
 
 impl std::fmt::Debug for Contact {
@@ -302,9 +310,18 @@ impl Contact {
             directions: vec![SlipDirection::Stick; n],
             work: Some(Workspace::new(n)),
             increment: Increment::new(n),
+            pause_at_events: false,
         };
         c.refresh();
         c
+    }
+
+    /// Make [`Contact::advance`] stop at every entry into slip and every
+    /// advancing stick ([`Advanced::Paused`]), at the event's exact load
+    /// point, or not (the default). The path is the same either way: the
+    /// events are located on the same straight segment.
+    pub fn set_pause_at_events(&mut self, pause: bool) {
+        self.pause_at_events = pause;
     }
 
     /// Replace the locked-in slip (an initial condition) without any load

@@ -112,7 +112,9 @@ pub fn drive(
             return Ok(Driven::Reached);
         }
         let report = stepper.step()?;
-        done += 1;
+        // A step that paused at an event inside its increment is not a
+        // whole increment.
+        done += usize::from(report.partial.is_none());
         if observer.observe(stepper, &report) == Control::Stop {
             return Ok(Driven::Stopped);
         }

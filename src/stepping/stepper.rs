@@ -10,7 +10,7 @@ use serde::Serialize;
 use super::driver::{drive, Control, Goal, Silent};
 use super::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
 use super::verdict::{trend, Trend};
-use super::zones::{slip_zones, zone_changes, ZoneChange};
+use super::zones::{slip_zones, zone_changes, SlipZone, ZoneChange};
 use crate::contact::{
     Advanced, Contact, ContactEnd, ContactError, ContactEventKind, Operators, SlipDirection,
 };
@@ -228,6 +228,10 @@ pub struct StepReport {
     pub factorisations: usize,
     /// Rate problems solved during this step (0 while the slip set holds).
     pub iterations: usize,
+    /// `Some(s)` when the step stopped at an event at parameter `s` of the
+    /// increment ([`Stepper::set_pause_at_events`]): the contact is at the
+    /// event's load point and the next step finishes the increment.
+    pub partial: Option<f64>,
 }
 
 /// The run's status.
@@ -240,6 +244,16 @@ pub enum Status {
     Steady(Summary),
     /// Gross slip or separation: no further steps are possible.
     Ended(Summary),
+}
+
+/// How far [`Stepper::advance`] got along its part of the increment.
+enum Progress {
+    /// To its end.
+    Done,
+    /// To an event at this parameter of the increment (pausing at events).
+    Paused(f64),
+    /// To a physical end at this parameter.
+    Ended(ContactEnd, f64),
 }
 
 /// Advances a contact along `transient` and then the steady `cycle`.
@@ -261,6 +275,10 @@ pub struct Stepper {
     /// The slip directions at the last reported change of the slip set,
     /// for the slip-zone topology of the next one.
     zone_dirs: Vec<SlipDirection>,
+    /// The slip zones of `zone_dirs`.
+    zones: Vec<SlipZone>,
+    /// Where in the current increment a step paused at an event.
+    resume: Option<f64>,
 }
 
 /// Set up the shared pieces of a run once.
@@ -364,7 +382,9 @@ impl Stepper {
             status: Status::Running,
             increments: 0,
             unresolved: None,
+            zones: slip_zones(&contact_dirs),
             zone_dirs: contact_dirs,
+            resume: None,
         }
     }
 
@@ -505,9 +525,23 @@ impl Stepper {
             Status::Steady(s) | Status::Ended(s) => Some(s),
         }
     }
-    /// `omega t` in the cycle, or `None` in the transient.
+    /// `omega t` in the cycle, or `None` in the transient: where the
+    /// contact is (inside an increment after a step paused at an event).
     pub fn time(&self) -> Option<f64> {
-        self.time_at(0.0)
+        self.time_at(self.resume.unwrap_or(0.0))
+    }
+
+    /// Stop each step at every entry into slip and every advancing stick,
+    /// at the event's exact load point ([`StepReport::partial`]), or not
+    /// (the default). The run is the same either way: the next step goes on
+    /// along the same straight segment.
+    pub fn set_pause_at_events(&mut self, pause: bool) {
+        self.contact.set_pause_at_events(pause);
+    }
+
+    /// Whether the last step paused inside its increment, at an event.
+    pub fn is_inside_increment(&self) -> bool {
+        self.resume.is_some()
     }
 
     /// `omega t` at parameter `s` of the current increment, or `None` in
@@ -571,8 +605,15 @@ impl Stepper {
             return Ok(report);
         }
         let events_before = report.events.len();
-        match self.advance(0.0, 1.0, 0, &mut report) {
-            Ok(None) => {}
+        let start = self.resume.take().unwrap_or(0.0);
+        match self.advance(start, 1.0, 0, &mut report) {
+            Ok(Progress::Done) => {}
+            Ok(Progress::Paused(at)) => {
+                self.resume = Some(at);
+                report.partial = Some(at);
+                self.after_increment(events_before, &mut report);
+                return Ok(report);
+            }
             Err(ContactError::NotSettled { load, .. }) => {
                 return Err(StepError::NotSettled {
                     load,
@@ -581,16 +622,24 @@ impl Stepper {
                 })
             }
             // Gross slip and separation are outcomes, not failures.
-            Ok(Some((ContactEnd::GrossSlip { load }, at))) => {
+            Ok(Progress::Ended(ContactEnd::GrossSlip { load }, at)) => {
                 self.end(Terminal::GrossSlip { load }, at, &mut report);
                 return Ok(report);
             }
-            Ok(Some((ContactEnd::Separation { load, theta, .. }, at))) => {
+            Ok(Progress::Ended(ContactEnd::Separation { load, theta, .. }, at)) => {
                 self.end(Terminal::Separation { load, theta }, at, &mut report);
                 return Ok(report);
             }
         }
         self.increments += 1;
+        self.after_increment(events_before, &mut report);
+        self.move_on(&mut report);
+        Ok(report)
+    }
+
+    /// What a step reports once the contact has got where it goes: the
+    /// sub-increments of advancing stick, the slip-zone changes.
+    fn after_increment(&mut self, events_before: usize, report: &mut StepReport) {
         for event in &mut report.events[events_before..] {
             if let Event::AdvancingStick { substeps, .. } = event {
                 *substeps = report.substeps;
@@ -602,16 +651,15 @@ impl Stepper {
             report.events.push(Event::SlipSetChanged {
                 slipping: dirs.iter().filter(|d| d.is_slipping()).count(),
                 zones: now.len(),
-                changes: zone_changes(&slip_zones(&self.zone_dirs), &now, dirs.len()),
+                changes: zone_changes(&self.zones, &now, dirs.len()),
             });
             self.zone_dirs.clone_from_slice(dirs);
+            self.zones = now;
         }
         if !report.newly_stuck.is_empty() {
             report.newly_stuck.sort_unstable();
             report.newly_stuck.dedup();
         }
-        self.move_on(&mut report);
-        Ok(report)
     }
 
     /// Advance the increment from parameter `s0` to `s1`. The contact
@@ -625,22 +673,23 @@ impl Stepper {
         s1: f64,
         fail_depth: usize,
         report: &mut StepReport,
-    ) -> Result<Option<(ContactEnd, f64)>, ContactError> {
+    ) -> Result<Progress, ContactError> {
         let target = self.point(s1);
         let result = self.contact.advance(target);
         let reached = s0 + self.contact.last_increment().reached * (s1 - s0);
         self.record(s0, s1, report);
         match result {
-            Ok(Advanced::Reached) => Ok(None),
-            Ok(Advanced::Ended(end)) => Ok(Some((end, reached))),
+            Ok(Advanced::Reached) => Ok(Progress::Done),
+            Ok(Advanced::Ended(end)) => Ok(Progress::Ended(end, reached)),
+            Ok(Advanced::Paused) => Ok(Progress::Paused(reached)),
             Err(ContactError::NotSettled { .. })
                 if fail_depth < self.options.failure_bisections && reached < s1 =>
             {
                 let mid = 0.5 * (reached + s1);
-                if let Some(end) = self.advance(reached, mid, fail_depth + 1, report)? {
-                    return Ok(Some(end));
+                match self.advance(reached, mid, fail_depth + 1, report)? {
+                    Progress::Done => self.advance(mid, s1, fail_depth + 1, report),
+                    stopped => Ok(stopped),
                 }
-                self.advance(mid, s1, fail_depth + 1, report)
             }
             Err(e) => Err(e),
         }

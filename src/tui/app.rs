@@ -1376,11 +1376,16 @@ impl App {
                     });
                 }
             }
-            Stopped::Event(text) => {
+            Stopped::Event(text, load) => {
                 self.running = false;
                 self.goal = None;
                 self.last_event = Some(text);
-                self.notice = Some("paused on the event (Space runs on)".into());
+                self.notice = Some(match load {
+                    Some((x, y)) => {
+                        format!("paused at the event's load point ({x:.4}, {y:.4}); Space runs on")
+                    }
+                    None => "paused on the event (Space runs on)".into(),
+                });
             }
             Stopped::Ended => {
                 self.running = false;

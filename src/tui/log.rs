@@ -97,6 +97,13 @@ impl Filter {
         kind_ok && (e.kind != EventKind::AdvancingStick || e.nodes >= self.min_nodes)
     }
 
+    /// Whether events of the filter happen inside an increment (entries
+    /// into slip, advancing stick, slip-zone changes), so that a pause on
+    /// them stops the contact at the event's load point.
+    pub fn inside_increments(&self) -> bool {
+        !matches!(self.kind, Some(EventKind::Cycle | EventKind::State))
+    }
+
     /// The filter in words, for notices and the log's title.
     pub fn describe(&self) -> String {
         let kind = self.kind.map_or("any event", EventKind::name);

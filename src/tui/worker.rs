@@ -64,8 +64,10 @@ pub enum Command {
 pub enum Stopped {
     /// The goal was met.
     Reached,
-    /// An event the filter asked to pause on.
-    Event(String),
+    /// An event the filter asked to pause on: its text, and its load point
+    /// when the run stopped there, inside the increment (`None`: at the
+    /// end of the increment, for events that belong to it as a whole).
+    Event(String, Option<(f64, f64)>),
     /// Gross slip or separation: no further steps are possible.
     Ended,
     /// The solver failed.
@@ -249,6 +251,8 @@ impl Thread {
                     case.cycle,
                     case.options,
                 );
+                let mut stepper = stepper;
+                stepper.set_pause_at_events(self.filter.is_some_and(|f| f.inside_increments()));
                 self.generation = generation;
                 let reply = Reply::Started {
                     generation,
@@ -260,7 +264,14 @@ impl Thread {
             }
             Command::Go { seq, goal } => self.go(seq, goal),
             Command::Pause => {}
-            Command::PauseOn(f) => self.filter = f,
+            Command::PauseOn(f) => {
+                self.filter = f;
+                // Stop the contact at the event's exact load point (the
+                // path is the same), not at the end of its increment.
+                if let Some(s) = &mut self.stepper {
+                    s.set_pause_at_events(f.is_some_and(|f| f.inside_increments()));
+                }
+            }
             Command::Budget(b) => self.budget = b,
         }
     }
@@ -349,19 +360,20 @@ impl Thread {
                     .as_ref()
                     .map(|d| d.slip.clone())
                     .unwrap_or_default();
+                let inside = report.partial.is_some();
                 let pause = filter.and_then(|f| {
                     record
                         .events
                         .iter()
                         .find(|e| f.matches(e))
-                        .map(|e| e.text.clone())
+                        .map(|e| (e.text.clone(), inside.then_some(record.load)))
                 });
                 if replies.send(Reply::Record(Box::new(record))).is_err() {
                     *closed = true;
                     return Control::Stop;
                 }
-                if let Some(text) = pause {
-                    why = Some(Stopped::Event(text));
+                if let Some((text, load)) = pause {
+                    why = Some(Stopped::Event(text, load));
                     return Control::Stop;
                 }
                 match commands.try_recv() {
@@ -430,9 +442,16 @@ fn centred_slip(s: &Stepper) -> Vec<f32> {
 fn make_record(s: &Stepper, report: &StepReport, generation: u64, before: &[f32]) -> Record {
     let c = s.contact();
     let after = s.phase();
-    let increment = s.increments().saturating_sub(1);
+    // A step paused at an event is inside the increment in progress.
+    let inside = report.partial.is_some();
+    let increment = if inside {
+        s.increments()
+    } else {
+        s.increments().saturating_sub(1)
+    };
     // The phase the increment was taken in: one step back from `after`.
     let phase = match after {
+        _ if inside => after,
         Phase::Cycle { cycle, increment } if increment > 0 => Phase::Cycle {
             cycle,
             increment: increment - 1,

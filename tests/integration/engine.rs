@@ -372,3 +372,105 @@ fn dissipation_is_half_q_dot_dg() {
     }
     assert!(checked > 20, "{checked}");
 }
+
+#[test]
+fn pausing_at_events_stops_at_each_event_and_changes_nothing() {
+    // The explorer pauses at events: the contact stops at each event's
+    // load point, and going on reaches the same state as one call.
+    let n = 128;
+    let c = partially_slipping(n);
+    // Unload the torque through zero and beyond: the slip zone sticks at
+    // the turn and reverse slip enters node by node.
+    let to = LoadPoint::new(2.0, -5.0);
+    let mut one = c.clone();
+    assert_eq!(one.advance(to), Ok(Advanced::Reached));
+    let events = one.last_increment().events.clone();
+    assert!(events.len() >= 3, "{events:?}");
+    let mut paused = c.clone();
+    paused.set_pause_at_events(true);
+    let mut seen = Vec::new();
+    for _ in 0..=4 * n {
+        let r = paused.advance(to);
+        let inc = paused.last_increment();
+        if let Some(last) = inc.events.last() {
+            if r == Ok(Advanced::Paused) {
+                // Stopped exactly where the event is.
+                assert_eq!(paused.load(), last.load, "{last:?}");
+            }
+        }
+        seen.extend(inc.events.iter().map(|e| (e.kind, e.load, e.nodes.clone())));
+        if r == Ok(Advanced::Reached) {
+            break;
+        }
+        assert_eq!(r, Ok(Advanced::Paused));
+    }
+    assert_eq!(paused.load(), to);
+    assert_eq!(seen.len(), events.len());
+    for (e, (kind, load, nodes)) in events.iter().zip(&seen) {
+        assert_eq!((e.kind, &e.nodes), (*kind, nodes));
+        assert!(e.load.distance(*load) < 1e-12, "{} vs {load}", e.load);
+    }
+    for j in 0..n {
+        assert!((one.slip()[j] - paused.slip()[j]).abs() < 1e-12);
+        assert!((one.pressure()[j] - paused.pressure()[j]).abs() < 1e-12);
+        assert!((one.shear()[j] - paused.shear()[j]).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn a_stepper_paused_at_events_reaches_the_same_steady_state() {
+    let run = |pause: bool| {
+        let mut s = Stepper::new(
+            Material::paper(),
+            Discretisation::new(64, 200).unwrap(),
+            &Initial::Direct,
+            Cycle::paper(5.5, 0.5 * PI).unwrap(),
+            StepOptions::default(),
+        );
+        s.set_pause_at_events(pause);
+        let (mut partial, mut whole) = (0, 0);
+        while !s.is_finished() && matches!(s.status(), shakedown::Status::Running) {
+            let report = s.step().unwrap();
+            match report.partial {
+                Some(at) => {
+                    partial += 1;
+                    assert!((0.0..=1.0).contains(&at), "{at}");
+                    assert!(s.is_inside_increment());
+                    // The stepper's time and the contact's load are those
+                    // of the last event.
+                    let last = report.events.iter().rev().find_map(|e| match e {
+                        shakedown::stepping::Event::AdvancingStick { time, load, .. }
+                        | shakedown::stepping::Event::SlipEntry { time, load, .. } => {
+                            Some((*time, *load))
+                        }
+                        _ => None,
+                    });
+                    let (time, load) = last.expect("a pause is at an event");
+                    assert_eq!(s.contact().load(), load);
+                    assert_eq!(s.time(), time);
+                }
+                None => whole += 1,
+            }
+        }
+        (
+            s.summary().cloned().unwrap(),
+            partial,
+            whole,
+            s.increments(),
+        )
+    };
+    let (plain, p0, w0, i0) = run(false);
+    let (paused, p1, w1, i1) = run(true);
+    assert_eq!(p0, 0);
+    assert!(p1 > 0, "no pause at all");
+    assert_eq!((w0, i0), (w1, i1), "the same increments");
+    assert_eq!(plain.state, paused.state);
+    assert_eq!(plain.cycles, paused.cycles);
+    let rel = (plain.dissipation - paused.dissipation).abs() / plain.dissipation;
+    assert!(
+        rel < 1e-9,
+        "W {} vs {}",
+        plain.dissipation,
+        paused.dissipation
+    );
+}

@@ -212,7 +212,11 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
             // Running now stops at the first event worth seeing.
             wait_until(&mut app, |a| !a.is_running());
             let notice = app.notice().unwrap_or_default();
-            assert!(notice.contains("paused on the event"), "{notice}");
+            // Events inside an increment stop the run at their load point.
+            assert!(
+                notice.contains("paused at the event's load point"),
+                "{notice}"
+            );
             handle(&mut app);
             assert!(!app.pauses_on_events());
         }
@@ -819,6 +823,14 @@ fn events_are_logged_and_filtered_by_size() {
         .find(|e| e.kind == EventKind::AdvancingStick)
         .expect("paused on an advancing stick");
     assert!(e.nodes >= 4, "{e:?}");
+    // The run stopped at the event's load point, inside its increment: the
+    // panels show the contact there, not at the end of the increment.
+    assert_eq!(last.load, e.load, "{e:?}");
+    assert_eq!(last.time, e.time, "{e:?}");
+    assert!(app
+        .notice()
+        .unwrap_or_default()
+        .contains(&format!("({:.4}, {:.4})", e.load.0, e.load.1)));
     // The log overlay shows the entries unclipped at 80 columns.
     app.apply(Action::ToggleLog);
     let mut terminal = Terminal::new(TestBackend::new(80, 24)).unwrap();
