@@ -21,7 +21,17 @@ pub struct SlipZone {
 impl SlipZone {
     /// The nodes of the zone in order, wrapping round `nodes`.
     pub fn nodes(&self, nodes: usize) -> impl Iterator<Item = usize> + '_ {
-        (0..self.len).map(move |k| (self.first + k) % nodes)
+        // A counter that wraps, not a remainder per node: this runs at
+        // every change of the slip set.
+        let start = self.first.checked_rem(nodes).unwrap_or(0);
+        (0..self.len).scan(start, move |j, _| {
+            let node = *j;
+            *j += 1;
+            if *j == nodes {
+                *j = 0;
+            }
+            Some(node)
+        })
     }
 }
 
@@ -103,12 +113,20 @@ pub fn slip_zones(dirs: &[SlipDirection]) -> Vec<SlipZone> {
         return Vec::new();
     };
     let mut zones = Vec::new();
+    // Node `start + j` round the circle (`start < n`, `j < n`).
+    let at = |j: usize| {
+        if start + j < n {
+            start + j
+        } else {
+            start + j - n
+        }
+    };
     let mut j = 0;
     while j < n {
-        let idx = (start + j) % n;
+        let idx = at(j);
         let d = dirs[idx];
         let mut len = 1;
-        while j + len < n && dirs[(start + j + len) % n] == d {
+        while j + len < n && dirs[at(j + len)] == d {
             len += 1;
         }
         if d.is_slipping() {
@@ -127,26 +145,33 @@ pub fn slip_zones(dirs: &[SlipDirection]) -> Vec<SlipZone> {
 /// `nodes` nodes, appearances and merges first, then vanishings and
 /// splits, without repeats.
 pub fn zone_changes(old: &[SlipZone], new: &[SlipZone], nodes: usize) -> Vec<ZoneChange> {
+    const NONE: u32 = u32::MAX;
     let owners = |zones: &[SlipZone]| {
-        let mut owner = vec![None; nodes];
+        let mut owner = vec![NONE; nodes];
         for (i, z) in zones.iter().enumerate() {
             for j in z.nodes(nodes) {
-                owner[j] = Some(i);
+                owner[j] = i as u32;
             }
         }
         owner
     };
     let old_owner = owners(old);
     let new_owner = owners(new);
-    let links = |zone: &SlipZone, other: &[SlipZone], owner: &[Option<usize>]| {
-        let mut found: Vec<usize> = zone
-            .nodes(nodes)
-            .filter_map(|j| owner[j])
-            .filter(|&i| other[i].direction == zone.direction)
-            .collect();
-        found.sort_unstable();
-        found.dedup();
-        found.len()
+    // How many zones of `other` in the same direction `zone` shares a node
+    // with: 0, 1, or 2 for "more than one".
+    let links = |zone: &SlipZone, other: &[SlipZone], owner: &[u32]| {
+        let mut first = NONE;
+        for j in zone.nodes(nodes) {
+            let i = owner[j];
+            if i == NONE || i == first || other[i as usize].direction != zone.direction {
+                continue;
+            }
+            if first != NONE {
+                return 2;
+            }
+            first = i;
+        }
+        usize::from(first != NONE)
     };
     let mut out = Vec::new();
     for z in new {
@@ -188,6 +213,21 @@ mod tests {
         assert_eq!(slip_zones(&d).len(), 2);
         assert!(slip_zones(&[Stick; 4]).is_empty());
         assert_eq!(slip_zones(&[Forward; 4]), vec![z(0, 4, Forward)]);
+    }
+
+    #[test]
+    fn zone_nodes_wrap_through_node_0() {
+        let nodes: Vec<usize> = z(14, 4, Forward).nodes(16).collect();
+        assert_eq!(nodes, [14, 15, 0, 1]);
+        let whole: Vec<usize> = z(3, 5, Backward).nodes(5).collect();
+        assert_eq!(whole, [3, 4, 0, 1, 2]);
+        // A zone across node 0 that splits in two, one on each side.
+        let one = [z(14, 6, Forward)];
+        let two = [z(14, 1, Forward), z(2, 2, Forward)];
+        assert_eq!(
+            zone_changes(&one, &two, 16),
+            vec![ZoneChange::Split(Forward)]
+        );
     }
 
     #[test]
