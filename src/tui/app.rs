@@ -1380,11 +1380,12 @@ impl App {
                 self.running = false;
                 self.goal = None;
                 self.last_event = Some(text);
-                self.notice = Some(match load {
-                    Some((x, y)) => {
-                        format!("paused at the event's load point ({x:.4}, {y:.4}); Space runs on")
-                    }
-                    None => "paused on the event (Space runs on)".into(),
+                // Inside its increment the second status line gives the
+                // event's load point; the notice keeps to the point.
+                self.notice = Some(if load.is_some() {
+                    "paused at the event (Space runs on)".into()
+                } else {
+                    "paused on the event (Space runs on)".into()
                 });
             }
             Stopped::Ended => {

@@ -61,10 +61,15 @@ pub struct Record {
     pub phase: Phase,
     /// Where the stepper is after it.
     pub after: Phase,
-    /// `omega t` at the end of the increment, `None` in the transient.
+    /// `omega t` at the end of the increment (or at the event it paused
+    /// at), `None` in the transient.
     pub time: Option<f64>,
-    /// The load point `(x, y)` at the end of the increment.
+    /// The load point `(x, y)` at the end of the increment (or at the
+    /// event it paused at).
     pub load: (f64, f64),
+    /// `Some(s)`: the run paused at an event at parameter `s` of this
+    /// increment, which is not finished.
+    pub partial: Option<f64>,
     /// Per node: [`STICK`], [`FORWARD`] or [`BACKWARD`], maybe with
     /// [`NEWLY_STUCK`].
     pub cells: Vec<u8>,
@@ -272,6 +277,7 @@ mod tests {
             },
             time: Some(0.0),
             load: (0.0, 0.0),
+            partial: None,
             cells: vec![0; nodes],
             dissipation: 0.0,
             rotation: 0.0,

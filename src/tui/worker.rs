@@ -501,6 +501,7 @@ fn make_record(s: &Stepper, report: &StepReport, generation: u64, before: &[f32]
         after,
         time: s.time(),
         load,
+        partial: report.partial,
         cells,
         dissipation: s.current_cycle().dissipation,
         rotation: c.rotation(),

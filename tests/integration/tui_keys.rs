@@ -212,11 +212,8 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
             // Running now stops at the first event worth seeing.
             wait_until(&mut app, |a| !a.is_running());
             let notice = app.notice().unwrap_or_default();
-            // Events inside an increment stop the run at their load point.
-            assert!(
-                notice.contains("paused at the event's load point"),
-                "{notice}"
-            );
+            // Events inside an increment stop the run at the event.
+            assert!(notice.contains("paused at the event"), "{notice}");
             handle(&mut app);
             assert!(!app.pauses_on_events());
         }
@@ -827,13 +824,15 @@ fn events_are_logged_and_filtered_by_size() {
     // panels show the contact there, not at the end of the increment.
     assert_eq!(last.load, e.load, "{e:?}");
     assert_eq!(last.time, e.time, "{e:?}");
-    assert!(app
-        .notice()
-        .unwrap_or_default()
-        .contains(&format!("({:.4}, {:.4})", e.load.0, e.load.1)));
+    assert!(last.partial.is_some(), "inside the increment");
+    // The status line says the run is at the event's load point.
+    let mut terminal = Terminal::new(TestBackend::new(80, 24)).unwrap();
+    terminal.draw(|f| ui::draw(f, &app)).unwrap();
+    let text = terminal.backend().to_string();
+    let point = format!("+ event at ({:.4}, {:.4})", e.load.0, e.load.1);
+    assert!(text.contains(&point), "{point} not in {text}");
     // The log overlay shows the entries unclipped at 80 columns.
     app.apply(Action::ToggleLog);
-    let mut terminal = Terminal::new(TestBackend::new(80, 24)).unwrap();
     terminal.draw(|f| ui::draw(f, &app)).unwrap();
     let text = terminal.backend().to_string();
     assert!(text.contains("Event log"), "{text}");

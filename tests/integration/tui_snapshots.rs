@@ -130,6 +130,7 @@ fn synthetic(i: usize, n: usize) -> Record {
         after: phase_of(i + 1),
         time: at.time,
         load: at.load,
+        partial: None,
         cells,
         dissipation: 0.004 * in_cycle as f64 / steps as f64,
         rotation: -1e-3 * i as f64,

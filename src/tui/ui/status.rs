@@ -88,6 +88,11 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
             }
         },
     };
+    // Paused at an event inside an increment: say where, exactly.
+    let inside = match (app.cursor(), shown) {
+        (None, Some(r)) => r.partial.map(|_| r.load),
+        _ => None,
+    };
     let (state, state_style) = match app.status() {
         Status::Running => ("unclassified".to_string(), theme.label()),
         Status::Steady(s) if wide => (
@@ -104,6 +109,11 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
         }
     };
     let mut line2 = Line::from(vec![label(where_label), value(where_value)]);
+    if let Some((x, y)) = inside {
+        line2
+            .spans
+            .extend([label(" + event at "), value(format!("({x:.4}, {y:.4})"))]);
+    }
     if wide && app.cursor().is_none() {
         line2
             .spans
