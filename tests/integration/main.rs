@@ -1,6 +1,7 @@
 //! Every integration test in one binary: one link, one run (as bottom
 //! keeps `tests/integration/main.rs`). Each file is a module.
 
+mod allocations;
 mod bad_input;
 mod batch_cli;
 mod common;
