@@ -243,7 +243,7 @@ impl Thread {
                         }
                     }
                 }
-                let stepper = Stepper::with_operators(
+                let mut stepper = Stepper::with_operators(
                     Arc::clone(&self.operators),
                     case.material,
                     case.disc,
@@ -251,7 +251,6 @@ impl Thread {
                     case.cycle,
                     case.options,
                 );
-                let mut stepper = stepper;
                 stepper.set_pause_at_events(self.filter.is_some_and(|f| f.inside_increments()));
                 self.generation = generation;
                 let reply = Reply::Started {
