@@ -100,12 +100,28 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme, log:
     } else {
         format!("{}/{} runs", sweep.done(), sweep.total())
     };
-    let title = format!(
-        " W against {} · {} · {} ",
-        axis_name(axis),
-        sweep.source().name,
-        progress
-    );
+    // The most that fits between the corners; never cut silently.
+    let room = usize::from(area.width).saturating_sub(2);
+    let name = &sweep.source().name;
+    let title = [
+        format!(" W against {} · {name} · {progress} ", axis_name(axis)),
+        format!(
+            " W against {} · {name} · {}/{} ",
+            axis_name(axis),
+            sweep.done(),
+            sweep.total()
+        ),
+        format!(" W · {name} · {}/{} ", sweep.done(), sweep.total()),
+    ]
+    .into_iter()
+    .find(|t| t.chars().count() <= room)
+    .unwrap_or_else(|| {
+        let short = format!(" W · {name} ");
+        super::fit_spans(vec![Span::raw(short)], room)
+            .iter()
+            .map(|s| s.content.to_string())
+            .collect()
+    });
     let block = theme.panel(title);
     let inner = block.inner(area);
     let _ = theme.ascii();
@@ -236,9 +252,18 @@ fn render_plot(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme, log:
         let after: String = chars
             .get(c + 1..)
             .map_or(String::new(), |s| s.iter().collect());
+        // On a tick label the caret is that character in reverse video, so
+        // the label stays readable; elsewhere a ▲.
+        let caret = match chars.get(c) {
+            Some(&ch) if ch != ' ' => Span::styled(
+                ch.to_string(),
+                theme.value().add_modifier(Modifier::REVERSED),
+            ),
+            _ => Span::styled("▲", theme.value()),
+        };
         spans = vec![
             Span::styled(before, theme.label()),
-            Span::styled("▲", theme.value()),
+            caret,
             Span::styled(after, theme.label()),
         ];
     }
@@ -425,7 +450,13 @@ fn render_status(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             ("running in the background", "stopped"),
         ));
     }
-    line1.push(label("   g: regime map over (lambda, phi)"));
+    let used: usize = line1.iter().map(Span::width).sum();
+    let regime = "   g: regime map over (lambda, phi)";
+    line1.push(label(if used + regime.len() <= usize::from(area.width) {
+        regime
+    } else {
+        "   g: regime map"
+    }));
     let hint = if area.width >= 100 {
         " Esc back  ←→ PgUp PgDn Home End x  ↑↓ run  Enter open  w log W  s save  r rerun  ? help  q quit"
     } else {
@@ -489,8 +520,11 @@ pub(super) fn render_status_lines(
         )),
     };
     let line3 = Line::from(Span::styled(hint.to_string(), theme.label()));
-    frame.render_widget(
-        Paragraph::new(vec![Line::from(line1), line2, line3]).style(Style::default()),
-        area,
-    );
+    // Each line cut with an ellipsis where it does not fit.
+    let width = usize::from(area.width);
+    let lines = [Line::from(line1), line2, line3]
+        .into_iter()
+        .map(|line| Line::from(super::fit_spans(line.spans, width)))
+        .collect::<Vec<_>>();
+    frame.render_widget(Paragraph::new(lines).style(Style::default()), area);
 }
