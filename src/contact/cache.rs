@@ -6,8 +6,12 @@
 //! and a run takes from a few to some hundreds of cycles to its steady
 //! state. The slip rates of a set depend on the set, its directions and the
 //! direction of the load only (model.md section 3), so they are kept here,
-//! by set, for the one or two load directions they were solved for. The
-//! pressure and shear rates follow from them by one FFT.
+//! by set, for the one or two load directions they were solved for. Up to
+//! [`RESPONSE_NODES`] nodes the residual pressure and shear rates `H g'` and
+//! `-|D| g'` are kept with them, so that a hit costs copies only, no FFT;
+//! above it they would crowd the rates out of the budget (a miss costs far
+//! more than an FFT there), and follow from the rates by one FFT.
+//! Either way a hit gives the very numbers the solve gave.
 //!
 //! The cache is bounded in bytes: past its budget the least recently used
 //! half is dropped. It is a cache only: a cloned contact starts with an
@@ -15,27 +19,35 @@
 
 use std::collections::HashMap;
 
-use super::solver::SlipDirection;
-
 /// Default budget of one contact's cache.
 pub(crate) const DEFAULT_BUDGET: usize = 8 << 20;
 
+/// Up to this many nodes an entry also holds the residual responses.
+pub(crate) const RESPONSE_NODES: usize = 256;
+
 /// The slip rates of one set.
 struct Entry {
-    /// Slip sign of every node (0 stick).
-    signs: Vec<i8>,
+    /// The set, a code per slipping node in node order ([`code`]).
+    key: Vec<u32>,
     /// The load direction `u1` of the first response.
     u1: (f64, f64),
     /// Slip rates on the set, in node order, per unit `u1` and (when
     /// computed) per unit `u2`, the perpendicular of `u1`.
     rates: [Vec<f64>; 2],
+    /// `H g'` then `-|D| g'` at every node, per unit `u1` and `u2` (empty
+    /// when not kept).
+    responses: [Vec<f64>; 2],
     have2: bool,
     last_used: u64,
 }
 
 impl Entry {
     fn bytes(&self) -> usize {
-        self.signs.len() + 8 * (self.rates[0].capacity() + self.rates[1].capacity()) + 96
+        let floats = self.rates[0].capacity()
+            + self.rates[1].capacity()
+            + self.responses[0].capacity()
+            + self.responses[1].capacity();
+        4 * self.key.capacity() + 8 * floats + 144
     }
 }
 
@@ -48,6 +60,10 @@ pub(crate) struct Hit<'a> {
     /// order.
     pub(crate) first: &'a [f64],
     pub(crate) second: Option<&'a [f64]>,
+    /// `H g'` then `-|D| g'` at every node for `first` and `second`, when
+    /// kept.
+    pub(crate) first_responses: Option<&'a [f64]>,
+    pub(crate) second_responses: Option<&'a [f64]>,
 }
 
 pub(crate) struct ResponseCache {
@@ -67,26 +83,34 @@ impl Clone for ResponseCache {
     }
 }
 
-fn hash(dirs: &[SlipDirection]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for chunk in dirs.chunks(32) {
-        // Two bits a node, 32 nodes a word.
-        let mut word: u64 = 0;
-        for (i, d) in chunk.iter().enumerate() {
-            let bits: u64 = match d {
-                SlipDirection::Stick => 0,
-                SlipDirection::Forward => 1,
-                SlipDirection::Backward => 2,
-            };
-            word |= bits << (2 * i);
-        }
-        h = (h ^ word).wrapping_mul(0x0100_0000_01b3).rotate_left(29);
+/// A slipping node and its direction as one number.
+#[inline]
+fn code(&(node, sign): &(usize, f64)) -> u32 {
+    ((node as u32) << 1) | u32::from(sign < 0.0)
+}
+
+/// FNV-1a over the codes of a set: `O(k)`, not `O(N)`.
+fn hash(codes: impl ExactSizeIterator<Item = u32>) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325 ^ codes.len() as u64;
+    for c in codes {
+        h = (h ^ u64::from(c)).wrapping_mul(0x0100_0000_01b3);
     }
     h
 }
 
-fn same(signs: &[i8], dirs: &[SlipDirection]) -> bool {
-    signs.len() == dirs.len() && signs.iter().zip(dirs).all(|(&s, d)| s == d.sign() as i8)
+/// The responses `(H g', -|D| g')` as one vector, if an entry keeps them.
+fn kept((pressure, shear): (&[f64], &[f64])) -> Vec<f64> {
+    if pressure.len() > RESPONSE_NODES {
+        return Vec::new();
+    }
+    let mut v = Vec::with_capacity(2 * pressure.len());
+    v.extend_from_slice(pressure);
+    v.extend_from_slice(shear);
+    v
+}
+
+fn same(key: &[u32], set: &[(usize, f64)]) -> bool {
+    key.len() == set.len() && key.iter().zip(set).all(|(&c, e)| c == code(e))
 }
 
 impl ResponseCache {
@@ -102,13 +126,14 @@ impl ResponseCache {
         }
     }
 
-    /// The cached rates of the set `dirs`, if any.
-    pub(crate) fn lookup(&mut self, dirs: &[SlipDirection]) -> Option<Hit<'_>> {
+    /// The cached rates of the slip set `set` (`(node, sign)` in node
+    /// order), if any.
+    pub(crate) fn lookup(&mut self, set: &[(usize, f64)]) -> Option<Hit<'_>> {
         self.lookups += 1;
         self.clock += 1;
-        let slot = *self.by_hash.get(&hash(dirs))?;
+        let slot = *self.by_hash.get(&hash(set.iter().map(code)))?;
         let e = &mut self.entries[slot];
-        if !same(&e.signs, dirs) {
+        if !same(&e.key, set) {
             return None;
         }
         self.hits += 1;
@@ -118,29 +143,35 @@ impl ResponseCache {
             u1: e.u1,
             first: &e.rates[0],
             second: e.have2.then_some(e.rates[1].as_slice()),
+            first_responses: (!e.responses[0].is_empty()).then_some(e.responses[0].as_slice()),
+            second_responses: (e.have2 && !e.responses[1].is_empty())
+                .then_some(e.responses[1].as_slice()),
         })
     }
 
     /// Keep the rates `first` (per unit `u1`, on the set in node order) of
-    /// the set `dirs`; returns the entry's slot.
+    /// the slip set `set`, with their responses `H g'` and `-|D| g'` if there
+    /// are at most [`RESPONSE_NODES`] nodes; returns the entry's slot.
     pub(crate) fn insert(
         &mut self,
-        dirs: &[SlipDirection],
+        set: &[(usize, f64)],
         u1: (f64, f64),
         first: impl Iterator<Item = f64>,
+        responses: (&[f64], &[f64]),
     ) -> Option<usize> {
         if self.budget == 0 {
             return None;
         }
         self.clock += 1;
         let entry = Entry {
-            signs: dirs.iter().map(|d| d.sign() as i8).collect(),
+            key: set.iter().map(code).collect(),
             u1,
             rates: [first.collect(), Vec::new()],
+            responses: [kept(responses), Vec::new()],
             have2: false,
             last_used: self.clock,
         };
-        let h = hash(dirs);
+        let h = hash(set.iter().map(code));
         if let Some(&slot) = self.by_hash.get(&h) {
             // A collision or a set solved again: replace it.
             self.bytes -= self.entries[slot].bytes();
@@ -159,22 +190,24 @@ impl ResponseCache {
     }
 
     /// Add the rates per unit `u2` to the entry at `slot`, if it still
-    /// holds `dirs`.
+    /// holds `set`.
     pub(crate) fn add_second(
         &mut self,
         slot: usize,
-        dirs: &[SlipDirection],
+        set: &[(usize, f64)],
         second: impl Iterator<Item = f64>,
+        responses: (&[f64], &[f64]),
     ) {
         let Some(e) = self.entries.get_mut(slot) else {
             return;
         };
-        if e.have2 || !same(&e.signs, dirs) {
+        if e.have2 || !same(&e.key, set) {
             return;
         }
         let before = e.bytes();
         e.rates[1].clear();
         e.rates[1].extend(second);
+        e.responses[1] = kept(responses);
         e.have2 = true;
         self.bytes = self.bytes - before + e.bytes();
         if self.bytes > self.budget {
@@ -191,15 +224,7 @@ impl ResponseCache {
         self.by_hash.clear();
         self.bytes = 0;
         for (slot, e) in self.entries.iter().enumerate() {
-            let dirs: Vec<SlipDirection> = e
-                .signs
-                .iter()
-                .map(|&s| match s {
-                    0 => SlipDirection::Stick,
-                    s => SlipDirection::from_sign(s as f64),
-                })
-                .collect();
-            self.by_hash.insert(hash(&dirs), slot);
+            self.by_hash.insert(hash(e.key.iter().copied()), slot);
             self.bytes += e.bytes();
         }
     }
@@ -215,16 +240,9 @@ impl ResponseCache {
 mod tests {
     use super::*;
 
-    fn set(n: usize, from: usize, to: usize) -> Vec<SlipDirection> {
-        (0..n)
-            .map(|j| {
-                if (from..to).contains(&j) {
-                    SlipDirection::Forward
-                } else {
-                    SlipDirection::Stick
-                }
-            })
-            .collect()
+    /// Nodes `from..to` slipping forward (of `n`).
+    fn set(_n: usize, from: usize, to: usize) -> Vec<(usize, f64)> {
+        (from..to).map(|j| (j, 1.0)).collect()
     }
 
     #[test]
@@ -233,18 +251,42 @@ mod tests {
         let mut c = ResponseCache::new(64 << 10);
         let a = set(n, 10, 20);
         assert!(c.lookup(&a).is_none());
-        let slot = c.insert(&a, (1.0, 0.0), (0..10).map(|i| i as f64)).unwrap();
+        let (hp, hq) = (vec![0.5; n], vec![-0.25; n]);
+        let slot = c
+            .insert(&a, (1.0, 0.0), (0..10).map(|i| i as f64), (&hp, &hq))
+            .unwrap();
         let hit = c.lookup(&a).expect("held");
         assert_eq!(hit.first[3], 3.0);
-        assert!(hit.second.is_none());
-        c.add_second(slot, &a, (0..10).map(|i| -(i as f64)));
-        assert_eq!(c.lookup(&a).unwrap().second.unwrap()[4], -4.0);
+        assert!(hit.second.is_none() && hit.second_responses.is_none());
+        let first = hit.first_responses.expect("kept at N = 128");
+        assert_eq!((first[0], first[n]), (0.5, -0.25));
+        c.add_second(slot, &a, (0..10).map(|i| -(i as f64)), (&hq, &hp));
+        let hit = c.lookup(&a).unwrap();
+        assert_eq!(hit.second.unwrap()[4], -4.0);
+        assert_eq!(hit.second_responses.unwrap()[n], 0.5);
         // A different set of the same size is not confused with it.
         assert!(c.lookup(&set(n, 11, 21)).is_none());
         for k in 0..2000 {
             let s = set(n, k % 100, k % 100 + 1 + k % 27);
-            c.insert(&s, (0.0, 1.0), (0..(1 + k % 27)).map(|i| i as f64));
+            c.insert(
+                &s,
+                (0.0, 1.0),
+                (0..(1 + k % 27)).map(|i| i as f64),
+                (&hp, &hq),
+            );
             assert!(c.bytes() <= 64 << 10);
         }
+    }
+
+    #[test]
+    fn large_grids_keep_rates_only() {
+        let n = RESPONSE_NODES + 2;
+        let mut c = ResponseCache::new(1 << 20);
+        let a = set(n, 3, 9);
+        let big = vec![1.0; n];
+        c.insert(&a, (1.0, 0.0), (0..6).map(|i| i as f64), (&big, &big));
+        let hit = c.lookup(&a).expect("held");
+        assert!(hit.first_responses.is_none());
+        assert_eq!(hit.first[5], 5.0);
     }
 }

@@ -80,17 +80,23 @@ fn rate_extremes(r: &[f64], sgn: &[f64]) -> (f64, f64) {
     (scale, worst)
 }
 
-/// The lowest margin at the end of the segment over the nodes: the end
-/// pressure, and the end slack `f p -+ q` (plus `TRACTION_TOL`, and
-/// infinite on slip nodes). Negative: some node may reach an event.
-fn end_margin(v: [&[f64]; 7], f: f64, ex: f64, ey: f64) -> f64 {
+/// A node whose end margin (below) is under this is tested exactly. The
+/// margin is the exact test's quantity summed in another order, so a node a
+/// round-off above zero is tested too.
+const SCREEN: f64 = 1e-9;
+
+/// The margins at the end of the segment into `out`, and the lowest: at
+/// each node the lower of its end pressure and its end slack `f p -+ q`
+/// (plus `TRACTION_TOL`, and infinite on slip nodes through `off`).
+/// Negative: the node may reach an event. Branch-free, in four lanes.
+fn end_margins(v: [&[f64]; 7], f: f64, ex: f64, ey: f64, out: &mut [f64]) -> f64 {
     let [p, q, tpx, tpy, tqx, tqy, off] = v;
     let margin = |p: f64, q: f64, px: f64, py: f64, qx: f64, qy: f64, off: f64| {
         let ep = p + ex * px + ey * py;
         let eq = q + ex * qx + ey * qy;
-        let fwd = f * ep - eq + off + TRACTION_TOL;
-        let bwd = f * ep + eq + off + TRACTION_TOL;
-        let m = if fwd < bwd { fwd } else { bwd };
+        // The lower of the forward and backward slack `f p -+ q`: the same
+        // bits as `min(f p - q, f p + q)`, in fewer operations.
+        let m = f * ep - eq.abs() + off + TRACTION_TOL;
         if ep < m {
             ep
         } else {
@@ -105,19 +111,23 @@ fn end_margin(v: [&[f64]; 7], f: f64, ex: f64, ey: f64) -> f64 {
         .zip(tpy.chunks_exact(4))
         .zip(tqx.chunks_exact(4))
         .zip(tqy.chunks_exact(4))
-        .zip(off.chunks_exact(4));
-    for ((((((p, q), px), py), qx), qy), o) in chunks {
+        .zip(off.chunks_exact(4))
+        .zip(out.chunks_exact_mut(4));
+    for (((((((p, q), px), py), qx), qy), o), out) in chunks {
         let as4 = |s: &[f64]| -> [f64; 4] { s.try_into().expect("chunks of 4") };
         let (p, q, px, py, qx, qy, o) =
             (as4(p), as4(q), as4(px), as4(py), as4(qx), as4(qy), as4(o));
         for i in 0..4 {
             let m = margin(p[i], q[i], px[i], py[i], qx[i], qy[i], o[i]);
+            out[i] = m;
             low[i] = if m < low[i] { m } else { low[i] };
         }
     }
     let mut lowest = low.iter().fold(f64::INFINITY, |m, &v| m.min(v));
     for j in p.len() - p.len() % 4..p.len() {
-        lowest = lowest.min(margin(p[j], q[j], tpx[j], tpy[j], tqx[j], tqy[j], off[j]));
+        let m = margin(p[j], q[j], tpx[j], tpy[j], tqx[j], tqy[j], off[j]);
+        out[j] = m;
+        lowest = lowest.min(m);
     }
     lowest
 }
@@ -267,6 +277,8 @@ pub(crate) struct Engine {
     sgn: Vec<f64>,
     /// 0 on stick nodes, infinity on slip nodes (their slack is not watched).
     off: Vec<f64>,
+    /// The end margins of the segment being scanned.
+    margins: Vec<f64>,
     /// Rates along the current segment: slip on the set; p and q at every
     /// node (filled for the rate problem only).
     rg: Vec<f64>,
@@ -276,7 +288,6 @@ pub(crate) struct Engine {
     trial: Vec<SlipDirection>,
     before: Vec<SlipDirection>,
     seen: Vec<u64>,
-    x: Vec<f64>,
     full: Vec<f64>,
     hbuf: Vec<f64>,
     dbuf: Vec<f64>,
@@ -329,6 +340,22 @@ impl Engine {
         self.totals(axis);
     }
 
+    /// The responses to the direction of `axis` from its slip rates in
+    /// `full` and the kept `H g'` then `-|D| g'` of a cache entry: the
+    /// numbers [`Self::fill_axis`] would compute, without the FFT.
+    fn restore_axis(&mut self, axis: usize, kept: &[f64]) {
+        let n = self.full.len();
+        let (g, hp, hq) = if axis == 0 {
+            (&mut self.gx, &mut self.hpx, &mut self.hqx)
+        } else {
+            (&mut self.gy, &mut self.hpy, &mut self.hqy)
+        };
+        g.copy_from_slice(&self.full);
+        hp.copy_from_slice(&kept[..n]);
+        hq.copy_from_slice(&kept[n..]);
+        self.totals(axis);
+    }
+
     pub(super) fn new(n: usize) -> Self {
         let z = || vec![0.0; n];
         Self {
@@ -355,13 +382,13 @@ impl Engine {
             stick: vec![true; n],
             sgn: z(),
             off: z(),
+            margins: z(),
             rg: z(),
             rp: z(),
             rq: z(),
             trial: vec![SlipDirection::Stick; n],
             before: vec![SlipDirection::Stick; n],
             seen: Vec::new(),
-            x: z(),
             full: z(),
             hbuf: z(),
             dbuf: z(),
@@ -578,20 +605,17 @@ impl Contact {
         let e = &mut w.engine;
         e.dirs.copy_from_slice(&e.trial);
         e.set.clear();
-        e.set.extend(
-            e.dirs
-                .iter()
-                .enumerate()
-                .filter(|(_, d)| d.is_slipping())
-                .map(|(j, d)| (j, d.sign())),
-        );
         e.valid = false;
         e.u1 = (dx, dy);
         e.have2 = false;
         for (j, d) in e.dirs.iter().enumerate() {
-            e.stick[j] = !d.is_slipping();
+            let slipping = d.is_slipping();
+            e.stick[j] = !slipping;
             e.sgn[j] = d.sign();
-            e.off[j] = if d.is_slipping() { f64::INFINITY } else { 0.0 };
+            e.off[j] = if slipping { f64::INFINITY } else { 0.0 };
+            if slipping {
+                e.set.push((j, d.sign()));
+            }
         }
         if e.set.is_empty() {
             for v in [
@@ -605,39 +629,45 @@ impl Contact {
             e.valid = true;
             return true;
         }
-        if let Some(hit) = e.cache.lookup(&e.dirs) {
-            // A set met before: its slip rates, and p and q by one FFT.
+        // The cache is lent out while its entry fills the engine (no
+        // allocation: an empty cache holds none).
+        let mut cache = std::mem::replace(&mut e.cache, ResponseCache::new(0));
+        let hit = cache.lookup(&e.set);
+        if let Some(hit) = hit {
+            // A set met before: its slip rates, and p and q from the kept
+            // responses or by one FFT.
             e.u1 = hit.u1;
             e.slot = Some(hit.slot);
-            e.full.fill(0.0);
-            for (&(j, _), &r) in e.set.iter().zip(hit.first) {
-                e.full[j] = r;
-            }
-            let have2 = if let Some(second) = hit.second {
-                e.x.fill(0.0);
-                for (&(j, _), &r) in e.set.iter().zip(second) {
-                    e.x[j] = r;
+            for (axis, rates, responses) in [
+                (0, Some(hit.first), hit.first_responses),
+                (1, hit.second, hit.second_responses),
+            ] {
+                let Some(rates) = rates else { continue };
+                e.full.fill(0.0);
+                for (&(j, _), &r) in e.set.iter().zip(rates) {
+                    e.full[j] = r;
                 }
-                true
-            } else {
-                false
-            };
-            e.fill_axis(&self.ops, &mut w.fft, 0);
-            if have2 {
-                std::mem::swap(&mut e.full, &mut e.x);
-                e.fill_axis(&self.ops, &mut w.fft, 1);
+                match responses {
+                    Some(kept) => e.restore_axis(axis, kept),
+                    None => e.fill_axis(&self.ops, &mut w.fft, axis),
+                }
             }
-            e.have2 = have2;
+            e.have2 = hit.second.is_some();
             e.valid = true;
+            e.cache = cache;
             return true;
         }
+        e.cache = cache;
         if !self.axis_response(w, 0) {
             return false;
         }
         let e = &mut w.engine;
-        e.slot = e
-            .cache
-            .insert(&e.dirs, e.u1, e.set.iter().map(|&(j, _)| e.gx[j]));
+        e.slot = e.cache.insert(
+            &e.set,
+            e.u1,
+            e.set.iter().map(|&(j, _)| e.gx[j]),
+            (&e.hpx, &e.hqx),
+        );
         e.valid = true;
         true
     }
@@ -696,8 +726,12 @@ impl Contact {
         let e = &mut w.engine;
         e.have2 = true;
         if let Some(slot) = e.slot {
-            e.cache
-                .add_second(slot, &e.dirs, e.set.iter().map(|&(j, _)| e.gy[j]));
+            e.cache.add_second(
+                slot,
+                &e.set,
+                e.set.iter().map(|&(j, _)| e.gy[j]),
+                (&e.hpy, &e.hqy),
+            );
         }
         Some((a1, a2))
     }
@@ -726,13 +760,14 @@ impl Contact {
     /// runs along `dx u1 + dy u2`; `load_dy` is its change of `y`.
     fn scan(
         &self,
-        w: &Workspace,
+        w: &mut Workspace,
         dx: f64,
         dy: f64,
         load_dy: f64,
         remaining: f64,
     ) -> (Stop, f64, bool) {
         let f = self.material.friction();
+        let mut margins = std::mem::take(&mut w.engine.margins);
         let e = &w.engine;
         let mut t_min = remaining;
         let mut stop = Stop::End;
@@ -745,18 +780,33 @@ impl Contact {
         }
         let (p, q) = (&self.pressure[..n], &self.shear[..n]);
         let (tpx, tpy, tqx, tqy) = (&e.tpx[..n], &e.tpy[..n], &e.tqx[..n], &e.tqy[..n]);
-        // First a branch-free pass that only asks whether any node could
-        // reach an event before the end of the segment (the common answer
-        // is no); slip nodes get an infinite slack.
-        let lowest = end_margin(
+        // First a branch-free pass for the end margins (the common answer
+        // is that no node can reach an event), then the exact test of the
+        // few nodes whose margin is low, in node order.
+        let lowest = end_margins(
             [p, q, tpx, tpy, tqx, tqy, &e.off[..n]],
             f,
             remaining * dx,
             remaining * dy,
+            &mut margins[..n],
         );
-        if lowest < 0.0 {
-            self.locate(w, dx, dy, remaining, &mut t_min, &mut stop, &mut need_rates);
+        if lowest < SCREEN {
+            for (j, &m) in margins[..n].iter().enumerate() {
+                if m < SCREEN {
+                    self.locate(
+                        w,
+                        j,
+                        dx,
+                        dy,
+                        remaining,
+                        &mut t_min,
+                        &mut stop,
+                        &mut need_rates,
+                    );
+                }
+            }
         }
+        w.engine.margins = margins;
         if load_dy != 0.0 {
             let y = self.load.y();
             let limit = 2.0 * PI * load_dy.signum();
@@ -773,12 +823,14 @@ impl Contact {
         (stop, t_min, need_rates)
     }
 
-    /// The exact first event among the nodes (the slow part of [`Self::scan`],
-    /// only when some node may reach one).
+    /// The exact test of node `j` for an event before `t_min` (the slow
+    /// part of [`Self::scan`], only for nodes whose end margin is low).
     #[allow(clippy::too_many_arguments)]
+    #[inline]
     fn locate(
         &self,
         w: &Workspace,
+        j: usize,
         dx: f64,
         dy: f64,
         remaining: f64,
@@ -788,29 +840,24 @@ impl Contact {
     ) {
         let f = self.material.friction();
         let e = &w.engine;
-        let n = e.tpx.len();
-        let (p, q) = (&self.pressure[..n], &self.shear[..n]);
-        let (tpx, tpy, tqx, tqy) = (&e.tpx[..n], &e.tpy[..n], &e.tqx[..n], &e.tqy[..n]);
-        let stick = &e.stick[..n];
-        for j in 0..n {
-            let a = dx * tpx[j] + dy * tpy[j];
-            // Separation: p + t a = 0 (divide only when it comes first).
-            if a < 0.0 && p[j] < -a * *t_min {
-                *t_min = p[j].max(0.0) / -a;
-                *stop = Stop::Separation(j);
-            }
-            if stick[j] {
-                let b = dx * tqx[j] + dy * tqy[j];
-                // Slack f p - sigma q on the forward (sigma = 1) and
-                // backward side, and its rate.
-                for (h0, h1) in [(f * p[j] - q[j], f * a - b), (f * p[j] + q[j], f * a + b)] {
-                    if h1 < -RATE_TOL && h0 + remaining * h1 < -TRACTION_TOL {
-                        if h0 <= TRACTION_TOL {
-                            *need_rates = true;
-                        } else if h0 < -h1 * *t_min {
-                            *t_min = h0 / -h1;
-                            *stop = Stop::Entry;
-                        }
+        let (p, q) = (self.pressure[j], self.shear[j]);
+        let a = dx * e.tpx[j] + dy * e.tpy[j];
+        // Separation: p + t a = 0 (divide only when it comes first).
+        if a < 0.0 && p < -a * *t_min {
+            *t_min = p.max(0.0) / -a;
+            *stop = Stop::Separation(j);
+        }
+        if e.stick[j] {
+            let b = dx * e.tqx[j] + dy * e.tqy[j];
+            // Slack f p - sigma q on the forward (sigma = 1) and backward
+            // side, and its rate.
+            for (h0, h1) in [(f * p - q, f * a - b), (f * p + q, f * a + b)] {
+                if h1 < -RATE_TOL && h0 + remaining * h1 < -TRACTION_TOL {
+                    if h0 <= TRACTION_TOL {
+                        *need_rates = true;
+                    } else if h0 < -h1 * *t_min {
+                        *t_min = h0 / -h1;
+                        *stop = Stop::Entry;
                     }
                 }
             }
@@ -847,18 +894,13 @@ impl Contact {
             }
             return;
         }
+        // Slip, and its forward and backward parts, change on the set only.
         let inc = &mut self.increment;
-        for (((g, fwd), bwd), r) in self
-            .slip
-            .iter_mut()
-            .zip(inc.forward.iter_mut())
-            .zip(inc.backward.iter_mut())
-            .zip(&e.rg)
-        {
-            let dg = t * r;
-            *g += dg;
-            *fwd += dg.max(0.0);
-            *bwd += (-dg).max(0.0);
+        for &(j, _) in &e.set {
+            let dg = t * e.rg[j];
+            self.slip[j] += dg;
+            inc.forward[j] += dg.max(0.0);
+            inc.backward[j] += (-dg).max(0.0);
         }
         inc.slipped = true;
         for ((r, hx), hy) in self.residual_pressure.iter_mut().zip(&e.hpx).zip(&e.hpy) {
@@ -875,25 +917,23 @@ impl Contact {
         {
             *q = -qt - qr * c + r;
         }
-        // p, and sum |dg| (p before + p after), in four lanes.
+        // The dissipation f/2 sum |dg| (p before + p after) dtheta, on the
+        // set (|dg| is 0 elsewhere), in the four lanes of node j mod 4
+        // (nodes past the last whole four in lane 0), then p everywhere.
         let mut acc = [0.0f64; 4];
-        let chunks = self
-            .pressure
-            .chunks_exact_mut(4)
-            .zip(self.sin.chunks_exact(4))
-            .zip(self.residual_pressure.chunks_exact(4))
-            .zip(e.rg.chunks_exact(4));
-        for (((p, sn), rp), rg) in chunks {
-            for i in 0..4 {
-                let p_new = 1.0 - pr * sn[i] + rp[i];
-                acc[i] += (t * rg[i]).abs() * (p[i] + p_new);
-                p[i] = p_new;
-            }
-        }
-        for j in n - n % 4..n {
+        let whole = n - n % 4;
+        for &(j, _) in &e.set {
             let p_new = 1.0 - pr * self.sin[j] + self.residual_pressure[j];
-            acc[0] += (t * e.rg[j]).abs() * (self.pressure[j] + p_new);
-            self.pressure[j] = p_new;
+            let lane = if j < whole { j % 4 } else { 0 };
+            acc[lane] += (t * e.rg[j]).abs() * (self.pressure[j] + p_new);
+        }
+        for ((p, sn), rp) in self
+            .pressure
+            .iter_mut()
+            .zip(&self.sin)
+            .zip(&self.residual_pressure)
+        {
+            *p = 1.0 - pr * sn + rp;
         }
         let sum = (acc[0] + acc[1]) + (acc[2] + acc[3]);
         let dtheta = 2.0 * PI / n as f64;

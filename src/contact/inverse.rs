@@ -206,13 +206,9 @@ impl SetInverse {
             }
         }
         self.lu.factorise(k);
-        // Columns of the inverse: the solves against unit vectors.
+        self.lu.inverse_into(&mut self.inv, n);
         for c in 0..k {
-            let x = &mut self.inv[c * n..c * n + k];
-            x.fill(0.0);
-            x[c] = 1.0;
-            self.lu.solve(x);
-            if x.iter().any(|v| !v.is_finite()) {
+            if self.inv[c * n..c * n + k].iter().any(|v| !v.is_finite()) {
                 return false;
             }
         }

@@ -20,6 +20,7 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::factor::{lu_in_place, lu_in_place_scratch};
+use faer::linalg::lu::partial_pivoting::inverse::{inverse, inverse_scratch};
 use faer::linalg::lu::partial_pivoting::solve::solve_in_place_scratch;
 use faer::{MatMut, Par};
 
@@ -45,7 +46,8 @@ impl DenseLu {
     pub(super) fn new(capacity: usize) -> Self {
         let req =
             lu_in_place_scratch::<usize, f64>(capacity, capacity, Par::Seq, Default::default())
-                .or(solve_in_place_scratch::<usize, f64>(capacity, 1, Par::Seq));
+                .or(solve_in_place_scratch::<usize, f64>(capacity, 1, Par::Seq))
+                .or(inverse_scratch::<usize, f64>(capacity, Par::Seq));
         Self {
             lu: vec![0.0; capacity * capacity],
             perm: vec![0; capacity],
@@ -102,6 +104,25 @@ impl DenseLu {
             }
         }
         rhs[..k].copy_from_slice(x);
+    }
+
+    /// The inverse of the factorised matrix into the first `dim` rows and
+    /// columns of `out`, column-major with stride `stride`: the library's
+    /// blocked triangular inversions, far cheaper than `dim` solves.
+    pub(super) fn inverse_into(&mut self, out: &mut [f64], stride: usize) {
+        let k = self.dim;
+        if k == 0 {
+            return;
+        }
+        let lu = faer::MatRef::from_column_major_slice(&self.lu[..k * k], k, k);
+        let perm = faer::perm::PermRef::new_checked(&self.perm[..k], &self.perm_inv[..k], k);
+        let out = MatMut::from_column_major_slice_with_stride_mut(
+            &mut out[..(k - 1) * stride + k],
+            k,
+            k,
+            stride,
+        );
+        inverse(out, lu, lu, perm, Par::Seq, MemStack::new(&mut self.stack));
     }
 
     /// The library's solve, for checking [`DenseLu::solve`].
