@@ -21,6 +21,9 @@
 //! number of updates proportional to `k`, so the round-off that updates
 //! accumulate stays bounded and the amortised cost stays `O(k^2)`.
 
+use faer::linalg::matmul::matmul;
+use faer::{Accum, MatMut, MatRef, Par};
+
 use super::operators::Operators;
 use super::reduced::DenseLu;
 use super::solver::SlipDirection;
@@ -72,6 +75,26 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
         }
     }
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
+/// `a` as a column (`k x 1`).
+fn column(a: &[f64]) -> MatRef<'_, f64> {
+    MatRef::from_column_major_slice(a, a.len(), 1)
+}
+
+/// `a` as a row (`1 x k`).
+fn row(a: &[f64]) -> MatRef<'_, f64> {
+    MatRef::from_column_major_slice(a, 1, a.len())
+}
+
+/// The leading `k x k` block of `inv` (column-major, stride `n`).
+fn block(inv: &[f64], k: usize, n: usize) -> MatRef<'_, f64> {
+    MatRef::from_column_major_slice_with_stride(&inv[..(k - 1) * n + k], k, k, n)
+}
+
+/// The same block, to write.
+fn block_mut(inv: &mut [f64], k: usize, n: usize) -> MatMut<'_, f64> {
+    MatMut::from_column_major_slice_with_stride_mut(&mut inv[..(k - 1) * n + k], k, k, n)
 }
 
 impl Clone for SetInverse {
@@ -229,18 +252,24 @@ impl SetInverse {
             self.row[i] = -dcol[node] + f * sign * hcol[node];
         }
         let d0 = Self::entry(ops, f, a, sign, a);
-        // v = B c, w^T = r^T B.
-        let v = &mut self.v[..k];
-        v.fill(0.0);
-        let w = &mut self.w[..k];
-        for (j, wj) in w.iter_mut().enumerate() {
-            let colj = &self.inv[j * n..j * n + k];
-            let cj = self.col[j];
-            for (vi, &bij) in v.iter_mut().zip(colj) {
-                *vi += bij * cj;
-            }
-            *wj = dot(&self.row[..k], colj);
+        // v = B c, w^T = r^T B (the library's matrix-vector products: these
+        // O(k^2) kernels are the cost of an event at large N).
+        let (v, w) = (&mut self.v[..k], &mut self.w[..k]);
+        if k > 0 {
+            let b = block(&self.inv, k, n);
+            let v_out = MatMut::from_column_major_slice_mut(v, k, 1);
+            matmul(
+                v_out,
+                Accum::Replace,
+                b,
+                column(&self.col[..k]),
+                1.0,
+                Par::Seq,
+            );
+            let w_out = MatMut::from_column_major_slice_mut(w, 1, k);
+            matmul(w_out, Accum::Replace, row(&self.row[..k]), b, 1.0, Par::Seq);
         }
+        let (v, w) = (&self.v[..k], &mut self.w[..k]);
         let rv = dot(&self.row[..k], v);
         let sigma = d0 - rv;
         let scale = d0.abs().max(rv.abs());
@@ -248,12 +277,15 @@ impl SetInverse {
             return false;
         }
         let inv_sigma = 1.0 / sigma;
+        // B += v w^T / sigma; the new row is -w^T / sigma.
+        for wj in w.iter_mut() {
+            *wj *= inv_sigma;
+        }
+        if k > 0 {
+            let b = block_mut(&mut self.inv, k, n);
+            matmul(b, Accum::Add, column(v), row(w), 1.0, Par::Seq);
+        }
         for (j, &wj) in w.iter().enumerate() {
-            let wj = wj * inv_sigma;
-            let colj = &mut self.inv[j * n..j * n + k];
-            for (bij, &vi) in colj.iter_mut().zip(v.iter()) {
-                *bij += vi * wj;
-            }
             self.inv[j * n + k] = -wj;
         }
         for (i, &vi) in v.iter().enumerate() {
@@ -281,15 +313,15 @@ impl SetInverse {
             self.v[i] = self.inv[p * n + i];
             self.w[i] = self.inv[i * n + p] / brr;
         }
-        for j in 0..k {
-            let wj = self.w[j];
-            if wj != 0.0 {
-                let colj = &mut self.inv[j * n..j * n + k];
-                for (bij, &vi) in colj.iter_mut().zip(&self.v[..k]) {
-                    *bij -= vi * wj;
-                }
-            }
-        }
+        let b = block_mut(&mut self.inv, k, n);
+        matmul(
+            b,
+            Accum::Add,
+            column(&self.v[..k]),
+            row(&self.w[..k]),
+            -1.0,
+            Par::Seq,
+        );
         // Move the last position into p.
         let removed = self.nodes[p];
         self.pos[removed] = NONE;
@@ -323,10 +355,15 @@ impl SetInverse {
             self.row[i] = -2.0 * f * sign * hcol[self.nodes[i]];
         }
         // w^T = delta^T B, u = B e_p.
-        for j in 0..k {
-            let colj = &self.inv[j * n..j * n + k];
-            self.w[j] = dot(&self.row[..k], colj);
-        }
+        let w_out = MatMut::from_column_major_slice_mut(&mut self.w[..k], 1, k);
+        matmul(
+            w_out,
+            Accum::Replace,
+            row(&self.row[..k]),
+            block(&self.inv, k, n),
+            1.0,
+            Par::Seq,
+        );
         let denom = 1.0 + self.w[p];
         if !denom.is_finite() || denom.abs() <= PIVOT_TOL * (1.0 + self.w[p].abs()) {
             return false;
@@ -334,15 +371,15 @@ impl SetInverse {
         for i in 0..k {
             self.v[i] = self.inv[p * n + i] / denom;
         }
-        for j in 0..k {
-            let wj = self.w[j];
-            if wj != 0.0 {
-                let colj = &mut self.inv[j * n..j * n + k];
-                for (bij, &vi) in colj.iter_mut().zip(&self.v[..k]) {
-                    *bij -= vi * wj;
-                }
-            }
-        }
+        let b = block_mut(&mut self.inv, k, n);
+        matmul(
+            b,
+            Accum::Add,
+            column(&self.v[..k]),
+            row(&self.w[..k]),
+            -1.0,
+            Par::Seq,
+        );
         self.signs[p] = -sign;
         true
     }
@@ -351,16 +388,23 @@ impl SetInverse {
     /// result goes to `out` by node (other nodes untouched).
     pub(crate) fn solve(&mut self, rhs: impl Fn(usize, f64) -> f64, out: &mut [f64]) -> bool {
         let (n, k) = (self.n, self.len());
-        let x = &mut self.v[..k];
-        x.fill(0.0);
-        for j in 0..k {
-            let bj = rhs(self.nodes[j], self.signs[j]);
-            if bj != 0.0 {
-                for (xi, &bij) in x.iter_mut().zip(&self.inv[j * n..j * n + k]) {
-                    *xi += bij * bj;
-                }
-            }
+        for (j, bj) in self.w[..k].iter_mut().enumerate() {
+            *bj = rhs(self.nodes[j], self.signs[j]);
         }
+        let x = &mut self.v[..k];
+        if k > 0 {
+            let x_out = MatMut::from_column_major_slice_mut(x, k, 1);
+            let b = column(&self.w[..k]);
+            matmul(
+                x_out,
+                Accum::Replace,
+                block(&self.inv, k, n),
+                b,
+                1.0,
+                Par::Seq,
+            );
+        }
+        let x = &self.v[..k];
         let mut finite = true;
         for (&node, &xi) in self.nodes.iter().zip(x.iter()) {
             finite &= xi.is_finite();
