@@ -332,7 +332,8 @@ impl Engine {
         } else {
             (&mut self.gy, &mut self.hpy, &mut self.hqy)
         };
-        g.copy_from_slice(&self.full);
+        // `full` is filled afresh before each use: hand its buffer over.
+        std::mem::swap(g, &mut self.full);
         hp.copy_from_slice(&self.hbuf);
         for (o, &d) in hq.iter_mut().zip(&self.dbuf) {
             *o = -d;
@@ -350,7 +351,8 @@ impl Engine {
         } else {
             (&mut self.gy, &mut self.hpy, &mut self.hqy)
         };
-        g.copy_from_slice(&self.full);
+        // `full` is filled afresh before each use: hand its buffer over.
+        std::mem::swap(g, &mut self.full);
         hp.copy_from_slice(&kept[..n]);
         hq.copy_from_slice(&kept[n..]);
         self.totals(axis);
@@ -749,9 +751,11 @@ impl Contact {
     fn combine_full(&self, w: &mut Workspace, dx: f64, dy: f64) {
         self.combine(w, dx, dy);
         let e = &mut w.engine;
-        for j in 0..e.rp.len() {
-            e.rp[j] = dx * e.tpx[j] + dy * e.tpy[j];
-            e.rq[j] = dx * e.tqx[j] + dy * e.tqy[j];
+        for ((r, tx), ty) in e.rp.iter_mut().zip(&e.tpx).zip(&e.tpy) {
+            *r = dx * tx + dy * ty;
+        }
+        for ((r, tx), ty) in e.rq.iter_mut().zip(&e.tqx).zip(&e.tqy) {
+            *r = dx * tx + dy * ty;
         }
     }
 
@@ -888,9 +892,13 @@ impl Contact {
         let qt = loads.torque / two_pi;
         if e.set.is_empty() {
             // Stick only: the residual part does not change.
-            for j in 0..n {
-                self.pressure[j] = 1.0 - pr * self.sin[j] + self.residual_pressure[j];
-                self.shear[j] = -qt - qr * self.cos[j] + self.residual_shear[j];
+            let parts = self.sin.iter().zip(&self.residual_pressure);
+            for (p, (sn, rp)) in self.pressure.iter_mut().zip(parts) {
+                *p = 1.0 - pr * sn + rp;
+            }
+            let parts = self.cos.iter().zip(&self.residual_shear);
+            for (q, (c, rq)) in self.shear.iter_mut().zip(parts) {
+                *q = -qt - qr * c + rq;
             }
             return;
         }
@@ -996,11 +1004,13 @@ impl Contact {
                     changed = true;
                 }
             }
-            for j in 0..n {
-                if e.dirs[j].is_slipping() {
+            let nodes = self.pressure.iter().zip(&self.shear).zip(&e.dirs);
+            for (j, ((&p, &q), d)) in nodes.enumerate() {
+                // Off the limit on both sides (`f p - |q|` is the lower
+                // slack), or slipping: nothing to decide.
+                if f * p - q.abs() > TRACTION_TOL || d.is_slipping() {
                     continue;
                 }
-                let (p, q) = (self.pressure[j], self.shear[j]);
                 for sigma in [1.0, -1.0] {
                     let h0 = f * p - sigma * q;
                     let h1 = f * e.rp[j] - sigma * e.rq[j];
