@@ -281,10 +281,8 @@ impl SetInverse {
         for wj in w.iter_mut() {
             *wj *= inv_sigma;
         }
-        if k > 0 {
-            let b = block_mut(&mut self.inv, k, n);
-            matmul(b, Accum::Add, column(v), row(w), 1.0, Par::Seq);
-        }
+        self.rank_one(1.0);
+        let (v, w) = (&self.v[..k], &self.w[..k]);
         for (j, &wj) in w.iter().enumerate() {
             self.inv[j * n + k] = -wj;
         }
@@ -296,6 +294,24 @@ impl SetInverse {
         self.nodes.push(a);
         self.signs.push(sign);
         true
+    }
+
+    /// `B += alpha v w^T` on the leading `k x k` block, `v` and `w` the
+    /// scratch vectors.
+    fn rank_one(&mut self, alpha: f64) {
+        let (n, k) = (self.n, self.len());
+        if k == 0 {
+            return;
+        }
+        let b = block_mut(&mut self.inv, k, n);
+        matmul(
+            b,
+            Accum::Add,
+            column(&self.v[..k]),
+            row(&self.w[..k]),
+            alpha,
+            Par::Seq,
+        );
     }
 
     /// The node at position `p` leaves the set.
@@ -313,15 +329,7 @@ impl SetInverse {
             self.v[i] = self.inv[p * n + i];
             self.w[i] = self.inv[i * n + p] / brr;
         }
-        let b = block_mut(&mut self.inv, k, n);
-        matmul(
-            b,
-            Accum::Add,
-            column(&self.v[..k]),
-            row(&self.w[..k]),
-            -1.0,
-            Par::Seq,
-        );
+        self.rank_one(-1.0);
         // Move the last position into p.
         let removed = self.nodes[p];
         self.pos[removed] = NONE;
@@ -371,15 +379,7 @@ impl SetInverse {
         for i in 0..k {
             self.v[i] = self.inv[p * n + i] / denom;
         }
-        let b = block_mut(&mut self.inv, k, n);
-        matmul(
-            b,
-            Accum::Add,
-            column(&self.v[..k]),
-            row(&self.w[..k]),
-            -1.0,
-            Par::Seq,
-        );
+        self.rank_one(-1.0);
         self.signs[p] = -sign;
         true
     }
