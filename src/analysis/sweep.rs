@@ -403,6 +403,8 @@ impl SweepSpec {
                 Ok(cycle) => {
                     let mut s =
                         Stepper::from_center(contact.clone(), cycle, self.disc, self.options);
+                    // The observer below reads no events.
+                    s.set_zone_events(false);
                     let mut look = |_: &Stepper, _: &StepReport| {
                         if stop() {
                             Control::Stop

@@ -57,27 +57,13 @@ fn on_torque_limit(point: LoadPoint, dy: f64) -> LoadPoint {
     LoadPoint::new(point.x(), beyond.copysign(dy))
 }
 
-/// `(max |r|, min s r)` over the nodes, in four lanes.
-fn rate_extremes(r: &[f64], sgn: &[f64]) -> (f64, f64) {
-    let mut big = [0.0f64; 4];
-    let mut low = [0.0f64; 4];
-    let (rc, sc) = (r.chunks_exact(4), sgn.chunks_exact(4));
-    let (rt, st) = (rc.remainder(), sc.remainder());
-    for (rr, ss) in rc.zip(sc) {
-        for i in 0..4 {
-            let a = rr[i].abs();
-            big[i] = if a > big[i] { a } else { big[i] };
-            let v = ss[i] * rr[i];
-            low[i] = if v < low[i] { v } else { low[i] };
-        }
-    }
-    let mut scale = big.iter().fold(0.0f64, |m, &v| m.max(v));
-    let mut worst = low.iter().fold(0.0f64, |m, &v| m.min(v));
-    for (&r, &s) in rt.iter().zip(st) {
-        scale = scale.max(r.abs());
-        worst = worst.min(s * r);
-    }
-    (scale, worst)
+/// `(max |r|, min s r)` over the slip set `(node, s)` (0 and 0 if it is
+/// empty: off the set `r` is 0).
+fn rate_extremes(r: &[f64], set: &[(usize, f64)]) -> (f64, f64) {
+    set.iter()
+        .fold((0.0f64, 0.0f64), |(scale, worst), &(j, s)| {
+            (scale.max(r[j].abs()), worst.min(s * r[j]))
+        })
 }
 
 /// A node whose end margin (below) is under this is tested exactly. The
@@ -104,19 +90,17 @@ fn end_margins(v: [&[f64]; 7], f: f64, ex: f64, ey: f64, out: &mut [f64]) -> f64
         }
     };
     let mut low = [f64::INFINITY; 4];
-    let chunks = p
-        .chunks_exact(4)
-        .zip(q.chunks_exact(4))
-        .zip(tpx.chunks_exact(4))
-        .zip(tpy.chunks_exact(4))
-        .zip(tqx.chunks_exact(4))
-        .zip(tqy.chunks_exact(4))
-        .zip(off.chunks_exact(4))
-        .zip(out.chunks_exact_mut(4));
+    // Whole groups of four as arrays: no length checks in the loop.
+    let chunks = four(p)
+        .iter()
+        .zip(four(q))
+        .zip(four(tpx))
+        .zip(four(tpy))
+        .zip(four(tqx))
+        .zip(four(tqy))
+        .zip(four(off))
+        .zip(out.as_chunks_mut::<4>().0);
     for (((((((p, q), px), py), qx), qy), o), out) in chunks {
-        let as4 = |s: &[f64]| -> [f64; 4] { s.try_into().expect("chunks of 4") };
-        let (p, q, px, py, qx, qy, o) =
-            (as4(p), as4(q), as4(px), as4(py), as4(qx), as4(qy), as4(o));
         for i in 0..4 {
             let m = margin(p[i], q[i], px[i], py[i], qx[i], qy[i], o[i]);
             out[i] = m;
@@ -130,6 +114,12 @@ fn end_margins(v: [&[f64]; 7], f: f64, ex: f64, ey: f64, out: &mut [f64]) -> f64
         lowest = lowest.min(m);
     }
     lowest
+}
+
+/// The whole groups of four of `s`, as arrays (no length checks in a loop
+/// over them).
+fn four(s: &[f64]) -> &[[f64; 4]] {
+    s.as_chunks::<4>().0
 }
 
 /// What happened at an event inside an increment.
@@ -279,11 +269,8 @@ pub(crate) struct Engine {
     off: Vec<f64>,
     /// The end margins of the segment being scanned.
     margins: Vec<f64>,
-    /// Rates along the current segment: slip on the set; p and q at every
-    /// node (filled for the rate problem only).
+    /// Slip rates along the current segment, on the set (by node).
     rg: Vec<f64>,
-    rp: Vec<f64>,
-    rq: Vec<f64>,
     /// Rate-problem scratch.
     trial: Vec<SlipDirection>,
     before: Vec<SlipDirection>,
@@ -386,8 +373,6 @@ impl Engine {
             off: z(),
             margins: z(),
             rg: z(),
-            rp: z(),
-            rq: z(),
             trial: vec![SlipDirection::Stick; n],
             before: vec![SlipDirection::Stick; n],
             seen: Vec::new(),
@@ -738,24 +723,13 @@ impl Contact {
         Some((a1, a2))
     }
 
-    /// Slip rates on the set along the segment direction `dx u1 + dy u2`.
+    /// Slip rates on the set along the segment direction `dx u1 + dy u2`
+    /// (`rg` is read on the set only).
     #[inline]
     fn combine(&self, w: &mut Workspace, dx: f64, dy: f64) {
         let e = &mut w.engine;
-        for ((r, gx), gy) in e.rg.iter_mut().zip(&e.gx).zip(&e.gy) {
-            *r = dx * gx + dy * gy;
-        }
-    }
-
-    /// Rates of `p` and `q` at every node along `dx u1 + dy u2`.
-    fn combine_full(&self, w: &mut Workspace, dx: f64, dy: f64) {
-        self.combine(w, dx, dy);
-        let e = &mut w.engine;
-        for ((r, tx), ty) in e.rp.iter_mut().zip(&e.tpx).zip(&e.tpy) {
-            *r = dx * tx + dy * ty;
-        }
-        for ((r, tx), ty) in e.rq.iter_mut().zip(&e.tqx).zip(&e.tqy) {
-            *r = dx * tx + dy * ty;
+        for &(j, _) in &e.set {
+            e.rg[j] = dx * e.gx[j] + dy * e.gy[j];
         }
     }
 
@@ -778,9 +752,13 @@ impl Contact {
         let mut need_rates = false;
         let n = e.tpx.len();
         if !e.set.is_empty() {
-            // A slip rate against its direction: the set must be decided anew.
-            let (scale, worst) = rate_extremes(&e.rg[..n], &e.sgn[..n]);
-            need_rates |= worst < -DG_TOL * scale;
+            // A slip rate against its direction: the set must be decided
+            // anew here, and the segment is scanned again after that.
+            let (scale, worst) = rate_extremes(&e.rg, &e.set);
+            if worst < -DG_TOL * scale {
+                w.engine.margins = margins;
+                return (Stop::End, t_min, true);
+            }
         }
         let (p, q) = (&self.pressure[..n], &self.shear[..n]);
         let (tpx, tpy, tqx, tqy) = (&e.tpx[..n], &e.tpy[..n], &e.tqx[..n], &e.tqy[..n]);
@@ -902,46 +880,36 @@ impl Contact {
             }
             return;
         }
-        // Slip, and its forward and backward parts, change on the set only.
+        // Slip, its forward and backward parts and the dissipation
+        // f/2 sum |dg| (p before + p after) dtheta change on the set only
+        // (|dg| is 0 elsewhere); the dissipation in the four lanes of node
+        // j mod 4 (nodes past the last whole four in lane 0). `p after` is
+        // the value the pass below writes.
         let inc = &mut self.increment;
+        let mut acc = [0.0f64; 4];
+        let whole = n - n % 4;
         for &(j, _) in &e.set {
             let dg = t * e.rg[j];
             self.slip[j] += dg;
             inc.forward[j] += dg.max(0.0);
             inc.backward[j] += (-dg).max(0.0);
+            let residual = self.residual_pressure[j] + (tx * e.hpx[j] + ty * e.hpy[j]);
+            let p_new = 1.0 - pr * self.sin[j] + residual;
+            let lane = if j < whole { j % 4 } else { 0 };
+            acc[lane] += dg.abs() * (self.pressure[j] + p_new);
         }
         inc.slipped = true;
-        for ((r, hx), hy) in self.residual_pressure.iter_mut().zip(&e.hpx).zip(&e.hpy) {
+        // The residual tractions move with the slip rates, and p and q are
+        // the elastic part at `load` plus the residual part: one pass each.
+        let parts = self.residual_pressure.iter_mut().zip(&e.hpx).zip(&e.hpy);
+        for ((p, sn), ((r, hx), hy)) in self.pressure.iter_mut().zip(&self.sin).zip(parts) {
             *r += tx * hx + ty * hy;
+            *p = 1.0 - pr * sn + *r;
         }
-        for ((r, hx), hy) in self.residual_shear.iter_mut().zip(&e.hqx).zip(&e.hqy) {
+        let parts = self.residual_shear.iter_mut().zip(&e.hqx).zip(&e.hqy);
+        for ((q, c), ((r, hx), hy)) in self.shear.iter_mut().zip(&self.cos).zip(parts) {
             *r += tx * hx + ty * hy;
-        }
-        for ((q, c), r) in self
-            .shear
-            .iter_mut()
-            .zip(&self.cos)
-            .zip(&self.residual_shear)
-        {
-            *q = -qt - qr * c + r;
-        }
-        // The dissipation f/2 sum |dg| (p before + p after) dtheta, on the
-        // set (|dg| is 0 elsewhere), in the four lanes of node j mod 4
-        // (nodes past the last whole four in lane 0), then p everywhere.
-        let mut acc = [0.0f64; 4];
-        let whole = n - n % 4;
-        for &(j, _) in &e.set {
-            let p_new = 1.0 - pr * self.sin[j] + self.residual_pressure[j];
-            let lane = if j < whole { j % 4 } else { 0 };
-            acc[lane] += (t * e.rg[j]).abs() * (self.pressure[j] + p_new);
-        }
-        for ((p, sn), rp) in self
-            .pressure
-            .iter_mut()
-            .zip(&self.sin)
-            .zip(&self.residual_pressure)
-        {
-            *p = 1.0 - pr * sn + rp;
+            *q = -qt - qr * c + *r;
         }
         let sum = (acc[0] + acc[1]) + (acc[2] + acc[3]);
         let dtheta = 2.0 * PI / n as f64;
@@ -981,27 +949,36 @@ impl Contact {
         w.engine.seen.clear();
         let max_iterations = 4 * n + 20;
         let mut settled = false;
+        // Whether the last iteration changed `trial` (so that it differs
+        // from the set of the responses).
+        let mut changed = true;
         for iteration in 1..=max_iterations {
-            if (!w.engine.valid || w.engine.dirs != w.engine.trial)
-                && !self.responses_for_trial(w, dx, dy)
-            {
+            let stale = if iteration == 1 {
+                !w.engine.valid || w.engine.dirs != w.engine.trial
+            } else {
+                changed
+            };
+            if stale && !self.responses_for_trial(w, dx, dy) {
                 return Err(RateFailure::NotSettled);
             }
             let Some((a1, a2)) = self.direction_coefficients(w, dx, dy) else {
                 return Err(RateFailure::NotSettled);
             };
-            self.combine_full(w, a1, a2);
+            self.combine(w, a1, a2);
             let e = &mut w.engine;
             let scale = e
                 .set
                 .iter()
                 .map(|&(j, _)| e.rg[j].abs())
                 .fold(0.0, f64::max);
-            let mut changed = false;
+            changed = false;
+            // The slip set of `trial` as it leaves this iteration.
+            let mut slipping = e.set.len();
             for &(j, sg) in &e.set {
                 if sg * e.rg[j] < -DG_TOL * scale {
                     e.trial[j] = SlipDirection::Stick;
                     changed = true;
+                    slipping -= 1;
                 }
             }
             let nodes = self.pressure.iter().zip(&self.shear).zip(&e.dirs);
@@ -1011,17 +988,21 @@ impl Contact {
                 if f * p - q.abs() > TRACTION_TOL || d.is_slipping() {
                     continue;
                 }
+                // The rates of p and q along the segment, at this node only.
+                let rp = a1 * e.tpx[j] + a2 * e.tpy[j];
+                let rq = a1 * e.tqx[j] + a2 * e.tqy[j];
                 for sigma in [1.0, -1.0] {
                     let h0 = f * p - sigma * q;
-                    let h1 = f * e.rp[j] - sigma * e.rq[j];
+                    let h1 = f * rp - sigma * rq;
                     if h0 <= TRACTION_TOL && h1 < -RATE_TOL && h0 + remaining * h1 < -TRACTION_TOL {
                         e.trial[j] = SlipDirection::from_sign(sigma);
                         changed = true;
+                        slipping += 1;
                         break;
                     }
                 }
             }
-            if e.trial.iter().all(|d| d.is_slipping()) {
+            if slipping == n {
                 // All nodes at the limit: only possible on |y| = 2 pi.
                 return Err(if self.load.y().abs() >= 2.0 * PI * (1.0 - GROSS_TOL) {
                     RateFailure::Gross

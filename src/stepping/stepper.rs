@@ -277,6 +277,10 @@ pub struct Stepper {
     zone_dirs: Vec<SlipDirection>,
     /// The slip zones of `zone_dirs`.
     zones: Vec<SlipZone>,
+    /// Whether steps report [`Event::SlipSetChanged`] (a pass over the
+    /// nodes at every change of the slip set, which a batch run that reads
+    /// no events need not pay).
+    zone_events: bool,
     /// Where in the current increment a step paused at an event.
     resume: Option<f64>,
 }
@@ -384,6 +388,7 @@ impl Stepper {
             unresolved: None,
             zones: slip_zones(&contact_dirs),
             zone_dirs: contact_dirs,
+            zone_events: true,
             resume: None,
         }
     }
@@ -411,6 +416,7 @@ impl Stepper {
     ) -> Result<AtCenter, StepError> {
         let dummy = Cycle::new(center, 0.0, 0.0, 0.0)?;
         let mut s = Self::with_operators(ops, material, disc, initial, dummy, options);
+        s.zone_events = false;
         // The dummy cycle starts at A, so the transient ends exactly there.
         drive(&mut s, Goal::TransientEnd, &mut Silent)?;
         if let Status::Ended(summary) = &s.status {
@@ -645,7 +651,10 @@ impl Stepper {
                 *substeps = report.substeps;
             }
         }
-        if report.slip_set_changed && self.contact.directions() != self.zone_dirs.as_slice() {
+        if self.zone_events
+            && report.slip_set_changed
+            && self.contact.directions() != self.zone_dirs.as_slice()
+        {
             let dirs = self.contact.directions();
             let now = slip_zones(dirs);
             report.events.push(Event::SlipSetChanged {
@@ -863,12 +872,27 @@ impl Stepper {
     ///
     /// A numerical failure of an increment.
     pub fn run_to_steady(&mut self) -> Result<Summary, StepError> {
-        loop {
+        // Nobody reads the events on the way.
+        let zone_events = std::mem::replace(&mut self.zone_events, false);
+        let result = loop {
             if let Some(summary) = self.summary() {
-                return Ok(summary.clone());
+                break Ok(summary.clone());
             }
-            drive(self, Goal::Steady, &mut Silent)?;
-        }
+            if let Err(e) = drive(self, Goal::Steady, &mut Silent) {
+                break Err(e);
+            }
+        };
+        self.zone_events = zone_events;
+        result
+    }
+
+    /// Report [`Event::SlipSetChanged`] at every change of the slip set
+    /// (the default), or not: the slip-zone topology costs a pass over the
+    /// nodes per change, which a run that reads no events need not pay.
+    /// Switched back on, the first report describes the change since the
+    /// last one reported.
+    pub fn set_zone_events(&mut self, on: bool) {
+        self.zone_events = on;
     }
 
     /// Step until the current cycle ends (or the run ends), returning the
