@@ -568,6 +568,8 @@ impl Contact {
             }
         }
         e.elastic_ready = true;
+        // The inverse keeps the set's slip rates per unit x and y with it.
+        w.inverse.set_loads([&e.epx, &e.eqx, &e.epy, &e.eqy]);
     }
 
     /// Responses of the slip set `self.directions` to the direction
@@ -671,13 +673,7 @@ impl Contact {
         }
         self.increment.factorisations += w.inverse.rebuilds - before;
         e.full.fill(0.0);
-        let (epx, epy, eqx, eqy) = (&e.epx, &e.epy, &e.eqx, &e.eqy);
-        let rhs = |j: usize, sg: f64| {
-            let eq = ux * eqx[j] + uy * eqy[j];
-            let ep = ux * epx[j] + uy * epy[j];
-            -(eq - sg * f * ep)
-        };
-        if !w.inverse.solve(rhs, &mut e.full) {
+        if !w.inverse.rates(ux, uy, &mut e.full) {
             return false;
         }
         e.fill_axis(&self.ops, &mut w.fft, axis);

@@ -46,6 +46,13 @@ pub(crate) struct SetInverse {
     /// Position of each node, or `NONE`.
     pos: Vec<usize>,
     valid: bool,
+    /// The elastic pressure and shear per unit `x` and per unit `y`
+    /// (`[p_x, q_x, p_y, q_y]`), once given: the right-hand sides of the
+    /// two unit load directions, `b_a = -(q_a - s f p_a)` on the set.
+    loads: Option<Box<[Vec<f64>; 4]>>,
+    /// `M_SS^-1 b_a` for the two unit directions, by position, kept with
+    /// the inverse through every update (`O(k)` each) while `loads` is set.
+    sol: [Vec<f64>; 2],
     /// Updates since the last rebuild.
     updates: usize,
     /// Rebuilds from a factorisation (for the increment's statistics).
@@ -100,7 +107,9 @@ fn block_mut(inv: &mut [f64], k: usize, n: usize) -> MatMut<'_, f64> {
 impl Clone for SetInverse {
     fn clone(&self) -> Self {
         // A cache: a clone starts empty and rebuilds on first use.
-        SetInverse::new(self.n)
+        let mut clone = SetInverse::new(self.n);
+        clone.loads.clone_from(&self.loads);
+        clone
     }
 }
 
@@ -116,6 +125,8 @@ impl SetInverse {
             signs: Vec::with_capacity(n),
             pos: vec![NONE; n],
             valid: false,
+            loads: None,
+            sol: [vec![0.0; n], vec![0.0; n]],
             updates: 0,
             rebuilds: 0,
             col: vec![0.0; n],
@@ -129,6 +140,46 @@ impl SetInverse {
     /// Size `k` of the set.
     pub(crate) fn len(&self) -> usize {
         self.nodes.len()
+    }
+
+    /// Keep the solutions for the two unit load directions from now on:
+    /// `p_x`, `q_x`, `p_y`, `q_y` are the elastic tractions per unit `x` and
+    /// `y` (model.md section 2.1). The next update rebuilds.
+    pub(crate) fn set_loads(&mut self, loads: [&[f64]; 4]) {
+        self.loads = Some(Box::new(loads.map(<[f64]>::to_vec)));
+        self.valid = false;
+    }
+
+    /// The right-hand sides `b_x`, `b_y` at `node` with slip sign `sign`.
+    #[inline]
+    fn rhs(&self, node: usize, sign: f64) -> [f64; 2] {
+        match &self.loads {
+            Some(l) => {
+                let f = self.friction;
+                [
+                    -(l[1][node] - sign * f * l[0][node]),
+                    -(l[3][node] - sign * f * l[2][node]),
+                ]
+            }
+            None => [0.0; 2],
+        }
+    }
+
+    /// The slip rates of the set for the load direction `(ux, uy)`,
+    /// `M_SS^-1 (ux b_x + uy b_y)`, from the kept solutions into `out` by
+    /// node (other nodes untouched); false if not finite. Needs
+    /// [`Self::set_loads`].
+    pub(crate) fn rates(&self, ux: f64, uy: f64, out: &mut [f64]) -> bool {
+        debug_assert!(self.loads.is_some(), "rates without loads");
+        let k = self.len();
+        let mut finite = true;
+        let [sx, sy] = &self.sol;
+        for ((&node, &x), &y) in self.nodes.iter().zip(&sx[..k]).zip(&sy[..k]) {
+            let r = ux * x + uy * y;
+            finite &= r.is_finite();
+            out[node] = r;
+        }
+        finite
     }
 
     /// `M[row, col]` for a row with slip sign `sign`.
@@ -235,6 +286,17 @@ impl SetInverse {
                 return false;
             }
         }
+        if self.loads.is_some() {
+            // The two solutions afresh: x_a = B b_a.
+            for i in 0..k {
+                [self.col[i], self.row[i]] = self.rhs(self.nodes[i], self.signs[i]);
+            }
+            let b = block(&self.inv, k, n);
+            for (sol, rhs) in self.sol.iter_mut().zip([&self.col, &self.row]) {
+                let out = MatMut::from_column_major_slice_mut(&mut sol[..k], k, 1);
+                matmul(out, Accum::Replace, b, column(&rhs[..k]), 1.0, Par::Seq);
+            }
+        }
         self.valid = true;
         true
     }
@@ -269,16 +331,27 @@ impl SetInverse {
             let w_out = MatMut::from_column_major_slice_mut(w, 1, k);
             matmul(w_out, Accum::Replace, row(&self.row[..k]), b, 1.0, Par::Seq);
         }
-        let (v, w) = (&self.v[..k], &mut self.w[..k]);
-        let rv = dot(&self.row[..k], v);
+        let rv = dot(&self.row[..k], &self.v[..k]);
         let sigma = d0 - rv;
         let scale = d0.abs().max(rv.abs());
         if !sigma.is_finite() || sigma.abs() <= PIVOT_TOL * scale {
             return false;
         }
+        if self.loads.is_some() {
+            // The bordered system's solution: the new entry
+            // xi = (beta - r^T x) / sigma, and x - xi v on the old set.
+            let betas = self.rhs(a, sign);
+            for (sol, beta) in self.sol.iter_mut().zip(betas) {
+                let xi = (beta - dot(&self.row[..k], &sol[..k])) / sigma;
+                for (x, &vi) in sol[..k].iter_mut().zip(&self.v[..k]) {
+                    *x -= xi * vi;
+                }
+                sol[k] = xi;
+            }
+        }
         let inv_sigma = 1.0 / sigma;
         // B += v w^T / sigma; the new row is -w^T / sigma.
-        for wj in w.iter_mut() {
+        for wj in self.w[..k].iter_mut() {
             *wj *= inv_sigma;
         }
         self.rank_one(1.0);
@@ -330,6 +403,17 @@ impl SetInverse {
             self.w[i] = self.inv[i * n + p] / brr;
         }
         self.rank_one(-1.0);
+        if self.loads.is_some() {
+            // Without node r the solution is x - B_:r x_r / B_rr (whose
+            // entry r is 0).
+            for sol in &mut self.sol {
+                let c = sol[p] / brr;
+                for (x, &vi) in sol[..k].iter_mut().zip(&self.v[..k]) {
+                    *x -= c * vi;
+                }
+                sol[p] = sol[k - 1];
+            }
+        }
         // Move the last position into p.
         let removed = self.nodes[p];
         self.pos[removed] = NONE;
@@ -379,6 +463,17 @@ impl SetInverse {
         for i in 0..k {
             self.v[i] = self.inv[p * n + i] / denom;
         }
+        if self.loads.is_some() {
+            // Row p of M gains delta and b_p changes by d: the solution
+            // gains (d - delta^T x) B e_p / (1 + w_p) = (d - delta^T x) v.
+            let (old, new) = (self.rhs(node, sign), self.rhs(node, -sign));
+            for ((sol, b0), b1) in self.sol.iter_mut().zip(old).zip(new) {
+                let c = (b1 - b0) - dot(&self.row[..k], &sol[..k]);
+                for (x, &vi) in sol[..k].iter_mut().zip(&self.v[..k]) {
+                    *x += c * vi;
+                }
+            }
+        }
         self.rank_one(-1.0);
         self.signs[p] = -sign;
         true
@@ -386,6 +481,7 @@ impl SetInverse {
 
     /// `x = M_SS^-1 b` with `b` given per node by `rhs(node, sign)`; the
     /// result goes to `out` by node (other nodes untouched).
+    #[cfg(test)]
     pub(crate) fn solve(&mut self, rhs: impl Fn(usize, f64) -> f64, out: &mut [f64]) -> bool {
         let (n, k) = (self.n, self.len());
         for (j, bj) in self.w[..k].iter_mut().enumerate() {
@@ -490,5 +586,56 @@ mod tests {
             assert!(r < 1e-11, "residual {r} for {zones:?}");
         }
         assert!(inv.rebuilds < steps.len(), "small changes are updates");
+    }
+
+    /// The slip rates kept through entries, leaves and flips are those of
+    /// a solve with the updated inverse, for any load direction.
+    #[test]
+    fn kept_rates_follow_the_updates() {
+        let n = 64;
+        let f = 0.1;
+        let ops = Operators::new(n);
+        let mut inv = SetInverse::new(n);
+        let shape = |j: usize, a: f64| ((j as f64) * a).sin() + 0.3 * (j as f64 * 0.7).cos();
+        let loads: Vec<Vec<f64>> = (1..=4)
+            .map(|a| (0..n).map(|j| shape(j, a as f64 * 0.37)).collect())
+            .collect();
+        inv.set_loads([&loads[0], &loads[1], &loads[2], &loads[3]]);
+        let steps: Vec<Vec<(usize, usize, f64)>> = vec![
+            vec![(10, 30, 1.0)],
+            vec![(10, 31, 1.0)],
+            vec![(11, 31, 1.0)],
+            vec![(11, 20, 1.0), (20, 31, -1.0)],
+            vec![(11, 20, 1.0), (21, 32, -1.0), (40, 41, 1.0)],
+            vec![(12, 20, 1.0), (21, 33, -1.0), (40, 42, 1.0)],
+            vec![(12, 19, 1.0), (21, 33, -1.0), (40, 42, -1.0)],
+        ];
+        let mut updated = 0;
+        for zones in &steps {
+            let before = inv.rebuilds;
+            assert!(inv.update_to(&ops, f, &dirs(n, zones)));
+            updated += usize::from(inv.rebuilds == before);
+            for (ux, uy) in [(1.0, 0.0), (0.0, 1.0), (0.6, -0.8)] {
+                let mut kept = vec![0.0; n];
+                assert!(inv.rates(ux, uy, &mut kept));
+                let rhs = |j: usize, s: f64| {
+                    let (p, q) = (
+                        ux * loads[0][j] + uy * loads[2][j],
+                        ux * loads[1][j] + uy * loads[3][j],
+                    );
+                    -(q - s * f * p)
+                };
+                let mut fresh = vec![0.0; n];
+                assert!(inv.solve(rhs, &mut fresh));
+                let scale = fresh.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+                for j in 0..n {
+                    assert!(
+                        (kept[j] - fresh[j]).abs() < 1e-10 * scale,
+                        "{zones:?} node {j}"
+                    );
+                }
+            }
+        }
+        assert!(updated >= 4, "the steps are updates, not rebuilds");
     }
 }
