@@ -876,36 +876,46 @@ impl Contact {
             }
             return;
         }
-        // Slip, its forward and backward parts and the dissipation
-        // f/2 sum |dg| (p before + p after) dtheta change on the set only
-        // (|dg| is 0 elsewhere); the dissipation in the four lanes of node
-        // j mod 4 (nodes past the last whole four in lane 0). `p after` is
-        // the value the pass below writes.
+        // Slip, and its forward and backward parts, change on the set only.
         let inc = &mut self.increment;
-        let mut acc = [0.0f64; 4];
-        let whole = n - n % 4;
         for &(j, _) in &e.set {
             let dg = t * e.rg[j];
             self.slip[j] += dg;
             inc.forward[j] += dg.max(0.0);
             inc.backward[j] += (-dg).max(0.0);
-            let residual = self.residual_pressure[j] + (tx * e.hpx[j] + ty * e.hpy[j]);
-            let p_new = 1.0 - pr * self.sin[j] + residual;
-            let lane = if j < whole { j % 4 } else { 0 };
-            acc[lane] += dg.abs() * (self.pressure[j] + p_new);
         }
         inc.slipped = true;
-        // The residual tractions move with the slip rates, and p and q are
-        // the elastic part at `load` plus the residual part: one pass each.
-        let parts = self.residual_pressure.iter_mut().zip(&e.hpx).zip(&e.hpy);
-        for ((p, sn), ((r, hx), hy)) in self.pressure.iter_mut().zip(&self.sin).zip(parts) {
+        for ((r, hx), hy) in self.residual_pressure.iter_mut().zip(&e.hpx).zip(&e.hpy) {
             *r += tx * hx + ty * hy;
-            *p = 1.0 - pr * sn + *r;
         }
-        let parts = self.residual_shear.iter_mut().zip(&e.hqx).zip(&e.hqy);
-        for ((q, c), ((r, hx), hy)) in self.shear.iter_mut().zip(&self.cos).zip(parts) {
+        for ((r, hx), hy) in self.residual_shear.iter_mut().zip(&e.hqx).zip(&e.hqy) {
             *r += tx * hx + ty * hy;
-            *q = -qt - qr * c + *r;
+        }
+        for ((q, c), r) in self
+            .shear
+            .iter_mut()
+            .zip(&self.cos)
+            .zip(&self.residual_shear)
+        {
+            *q = -qt - qr * c + r;
+        }
+        // The dissipation f/2 sum |dg| (p before + p after) dtheta, on the
+        // set (|dg| is 0 elsewhere), in the four lanes of node j mod 4
+        // (nodes past the last whole four in lane 0), then p everywhere.
+        let mut acc = [0.0f64; 4];
+        let whole = n - n % 4;
+        for &(j, _) in &e.set {
+            let p_new = 1.0 - pr * self.sin[j] + self.residual_pressure[j];
+            let lane = if j < whole { j % 4 } else { 0 };
+            acc[lane] += (t * e.rg[j]).abs() * (self.pressure[j] + p_new);
+        }
+        for ((p, sn), rp) in self
+            .pressure
+            .iter_mut()
+            .zip(&self.sin)
+            .zip(&self.residual_pressure)
+        {
+            *p = 1.0 - pr * sn + rp;
         }
         let sum = (acc[0] + acc[1]) + (acc[2] + acc[3]);
         let dtheta = 2.0 * PI / n as f64;
