@@ -57,6 +57,37 @@ fn on_torque_limit(point: LoadPoint, dy: f64) -> LoadPoint {
     LoadPoint::new(point.x(), beyond.copysign(dy))
 }
 
+/// Whether a slip set of `k` of `n` nodes is small enough that gathering
+/// it beats a vectorised pass over all nodes (criterion: a gather with a
+/// serial max/min chain loses to the full pass once the set is a sizeable
+/// part of the circle).
+#[inline]
+fn sparse(k: usize, n: usize) -> bool {
+    8 * k <= n
+}
+
+/// The nodes where `f p - |q| + off <= TRACTION_TOL` (stick nodes at the
+/// friction limit, `off` being infinite on slip nodes) into `out`, in node
+/// order: a branch-free test of four nodes at a time, and a look at each
+/// only in the rare groups that hold one.
+fn at_limit(p: &[f64], q: &[f64], off: &[f64], f: f64, out: &mut Vec<usize>) {
+    out.clear();
+    let slack = |j: usize| f * p[j] - q[j].abs() + off[j];
+    let groups = four(p).iter().zip(four(q)).zip(four(off));
+    for (g, ((p4, q4), o4)) in groups.enumerate() {
+        let mut low = f64::INFINITY;
+        for i in 0..4 {
+            let s = f * p4[i] - q4[i].abs() + o4[i];
+            low = if s < low { s } else { low };
+        }
+        if low <= TRACTION_TOL {
+            out.extend((4 * g..4 * g + 4).filter(|&j| slack(j) <= TRACTION_TOL));
+        }
+    }
+    let whole = p.len() - p.len() % 4;
+    out.extend((whole..p.len()).filter(|&j| slack(j) <= TRACTION_TOL));
+}
+
 /// `(max |r|, min s r)` over the nodes, in four lanes.
 fn rate_extremes(r: &[f64], sgn: &[f64]) -> (f64, f64) {
     let mut big = [0.0f64; 4];
@@ -287,6 +318,7 @@ pub(crate) struct Engine {
     rg: Vec<f64>,
     /// Rate-problem scratch.
     trial: Vec<SlipDirection>,
+    candidates: Vec<usize>,
     before: Vec<SlipDirection>,
     seen: Vec<u64>,
     full: Vec<f64>,
@@ -388,6 +420,7 @@ impl Engine {
             margins: z(),
             rg: z(),
             trial: vec![SlipDirection::Stick; n],
+            candidates: Vec::with_capacity(n),
             before: vec![SlipDirection::Stick; n],
             seen: Vec::new(),
             full: z(),
@@ -485,6 +518,10 @@ impl Contact {
         let mut rate_solves_here = 0;
         let max_events = 4 * n + 20;
         let mut events = 0;
+        // A node reached the friction limit at the end of the last
+        // sub-segment: the set is decided there straight away (a scan there
+        // would only ask for it).
+        let mut entry = false;
         loop {
             if !w.engine.valid {
                 self.responses(w, dx, dy)?;
@@ -495,11 +532,15 @@ impl Contact {
                     iterations: 1,
                 });
             };
-            if !w.engine.set.is_empty() {
-                self.combine(w, a1, a2);
-            }
             let remaining = 1.0 - s;
-            let (stop, t, need_rates) = self.scan(w, a1, a2, dy, remaining);
+            let (stop, t, need_rates) = if std::mem::take(&mut entry) {
+                (Stop::End, 0.0, true)
+            } else {
+                if !w.engine.set.is_empty() {
+                    self.combine(w, a1, a2);
+                }
+                self.scan(w, a1, a2, dy, remaining)
+            };
             if need_rates {
                 // A settled rate problem leaves nothing to decide here: a
                 // second request at the same point means it did not hold.
@@ -551,6 +592,7 @@ impl Contact {
                     if events > max_events {
                         return self.fallback(target, s, w);
                     }
+                    entry = true;
                 }
                 Stop::Separation(node) => {
                     return Ok(Advanced::Ended(self.separation(
@@ -607,18 +649,26 @@ impl Contact {
     fn responses_for_trial(&mut self, w: &mut Workspace, dx: f64, dy: f64) -> bool {
         let e = &mut w.engine;
         e.dirs.copy_from_slice(&e.trial);
+        // The per-node views of the set differ from those of a stick node
+        // on the set only: reset the old set's nodes, then mark the new.
+        for &(j, _) in &e.set {
+            e.stick[j] = true;
+            e.sgn[j] = 0.0;
+            e.off[j] = 0.0;
+        }
         e.set.clear();
         e.valid = false;
         e.u1 = (dx, dy);
         e.have2 = false;
         for (j, d) in e.dirs.iter().enumerate() {
-            let slipping = d.is_slipping();
-            e.stick[j] = !slipping;
-            e.sgn[j] = d.sign();
-            e.off[j] = if slipping { f64::INFINITY } else { 0.0 };
-            if slipping {
+            if d.is_slipping() {
                 e.set.push((j, d.sign()));
             }
+        }
+        for &(j, sign) in &e.set {
+            e.stick[j] = false;
+            e.sgn[j] = sign;
+            e.off[j] = f64::INFINITY;
         }
         if e.set.is_empty() {
             for v in [
@@ -736,9 +786,17 @@ impl Contact {
     /// Slip rates along the segment direction `dx u1 + dy u2` at every node
     /// (0 off the set): one vectorised pass, cheaper than gathering the set
     /// when it is a sizeable part of the circle.
+    /// A set of a few nodes (the late cycles of a slow shakedown) is
+    /// gathered instead ([`sparse`]); `rg` is then read on the set only.
     #[inline]
     fn combine(&self, w: &mut Workspace, dx: f64, dy: f64) {
         let e = &mut w.engine;
+        if sparse(e.set.len(), e.rg.len()) {
+            for &(j, _) in &e.set {
+                e.rg[j] = dx * e.gx[j] + dy * e.gy[j];
+            }
+            return;
+        }
         for ((r, gx), gy) in e.rg.iter_mut().zip(&e.gx).zip(&e.gy) {
             *r = dx * gx + dy * gy;
         }
@@ -765,7 +823,15 @@ impl Contact {
         if !e.set.is_empty() {
             // A slip rate against its direction: the set must be decided
             // anew here, and the segment is scanned again after that.
-            let (scale, worst) = rate_extremes(&e.rg[..n], &e.sgn[..n]);
+            let (scale, worst) = if sparse(e.set.len(), n) {
+                e.set
+                    .iter()
+                    .fold((0.0f64, 0.0f64), |(scale, worst), &(j, s)| {
+                        (scale.max(e.rg[j].abs()), worst.min(s * e.rg[j]))
+                    })
+            } else {
+                rate_extremes(&e.rg[..n], &e.sgn[..n])
+            };
             if worst < -DG_TOL * scale {
                 w.engine.margins = margins;
                 return (Stop::End, t_min, true);
@@ -1002,13 +1068,12 @@ impl Contact {
                     slipping -= 1;
                 }
             }
-            let nodes = self.pressure.iter().zip(&self.shear).zip(&e.dirs);
-            for (j, ((&p, &q), d)) in nodes.enumerate() {
-                // Off the limit on both sides (`f p - |q|` is the lower
-                // slack), or slipping: nothing to decide.
-                if f * p - q.abs() > TRACTION_TOL || d.is_slipping() {
-                    continue;
-                }
+            // Stick nodes at the friction limit: elsewhere (off the limit on
+            // both sides, `f p - |q|` being the lower slack, or slipping)
+            // there is nothing to decide.
+            at_limit(&self.pressure, &self.shear, &e.off, f, &mut e.candidates);
+            for &j in &e.candidates {
+                let (p, q) = (self.pressure[j], self.shear[j]);
                 // The rates of p and q along the segment, at this node only.
                 let rp = a1 * e.tpx[j] + a2 * e.tpy[j];
                 let rq = a1 * e.tqx[j] + a2 * e.tqy[j];
