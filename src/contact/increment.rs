@@ -75,12 +75,11 @@ fn at_limit(p: &[f64], q: &[f64], off: &[f64], f: f64, out: &mut Vec<usize>) {
     let slack = |j: usize| f * p[j] - q[j].abs() + off[j];
     let groups = four(p).iter().zip(four(q)).zip(four(off));
     for (g, ((p4, q4), o4)) in groups.enumerate() {
-        let mut low = f64::INFINITY;
+        let mut hit = [false; 4];
         for i in 0..4 {
-            let s = f * p4[i] - q4[i].abs() + o4[i];
-            low = if s < low { s } else { low };
+            hit[i] = f * p4[i] - q4[i].abs() + o4[i] <= TRACTION_TOL;
         }
-        if low <= TRACTION_TOL {
+        if (hit[0] | hit[1]) | (hit[2] | hit[3]) {
             out.extend((4 * g..4 * g + 4).filter(|&j| slack(j) <= TRACTION_TOL));
         }
     }
