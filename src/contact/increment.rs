@@ -57,15 +57,6 @@ fn on_torque_limit(point: LoadPoint, dy: f64) -> LoadPoint {
     LoadPoint::new(point.x(), beyond.copysign(dy))
 }
 
-/// Whether a slip set of `k` of `n` nodes is small enough that gathering
-/// it beats a vectorised pass over all nodes (criterion: a gather with a
-/// serial max/min chain loses to the full pass once the set is a sizeable
-/// part of the circle).
-#[inline]
-fn sparse(k: usize, n: usize) -> bool {
-    8 * k <= n
-}
-
 /// The nodes where `f p - |q| + off <= TRACTION_TOL` (stick nodes at the
 /// friction limit, `off` being infinite on slip nodes) into `out`, in node
 /// order: a branch-free test of four nodes at a time, and a look at each
@@ -785,17 +776,9 @@ impl Contact {
     /// Slip rates along the segment direction `dx u1 + dy u2` at every node
     /// (0 off the set): one vectorised pass, cheaper than gathering the set
     /// when it is a sizeable part of the circle.
-    /// A set of a few nodes (the late cycles of a slow shakedown) is
-    /// gathered instead ([`sparse`]); `rg` is then read on the set only.
     #[inline]
     fn combine(&self, w: &mut Workspace, dx: f64, dy: f64) {
         let e = &mut w.engine;
-        if sparse(e.set.len(), e.rg.len()) {
-            for &(j, _) in &e.set {
-                e.rg[j] = dx * e.gx[j] + dy * e.gy[j];
-            }
-            return;
-        }
         for ((r, gx), gy) in e.rg.iter_mut().zip(&e.gx).zip(&e.gy) {
             *r = dx * gx + dy * gy;
         }
@@ -822,15 +805,7 @@ impl Contact {
         if !e.set.is_empty() {
             // A slip rate against its direction: the set must be decided
             // anew here, and the segment is scanned again after that.
-            let (scale, worst) = if sparse(e.set.len(), n) {
-                e.set
-                    .iter()
-                    .fold((0.0f64, 0.0f64), |(scale, worst), &(j, s)| {
-                        (scale.max(e.rg[j].abs()), worst.min(s * e.rg[j]))
-                    })
-            } else {
-                rate_extremes(&e.rg[..n], &e.sgn[..n])
-            };
+            let (scale, worst) = rate_extremes(&e.rg[..n], &e.sgn[..n]);
             if worst < -DG_TOL * scale {
                 w.engine.margins = margins;
                 return (Stop::End, t_min, true);
