@@ -172,6 +172,34 @@ fn run_to_steady(cr: &mut Criterion) {
     group.finish();
 }
 
+/// The slowest asymptotic shakedown of `fig6` (`lambda = 5.1`,
+/// `phi = 17 pi/48`, path `7,-5`): proven by a safe state, and run out to
+/// its first cycle without slip (model.md section 6.4).
+fn asymptotic_shakedown(cr: &mut Criterion) {
+    let mut group = cr.benchmark_group("asymptotic shakedown");
+    group.sample_size(10);
+    for (name, safe_state) in [
+        ("fig6 17pi/48 7,-5: safe state", true),
+        ("fig6 17pi/48 7,-5: run out", false),
+    ] {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let mut options = StepOptions::default();
+                options.convergence.safe_state = safe_state;
+                let mut s = Stepper::new(
+                    Material::paper(),
+                    Discretisation::default(),
+                    &Initial::parse("7,-5").unwrap(),
+                    Cycle::paper(5.1, 17.0 * PI / 48.0).unwrap(),
+                    options,
+                );
+                s.run_to_steady().unwrap()
+            })
+        });
+    }
+    group.finish();
+}
+
 fn fig3(cr: &mut Criterion) {
     let spec = SweepSpec::new(
         Material::paper(),
@@ -195,5 +223,12 @@ fn fig3(cr: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, increment, exact_increment, run_to_steady, fig3);
+criterion_group!(
+    benches,
+    increment,
+    exact_increment,
+    run_to_steady,
+    asymptotic_shakedown,
+    fig3
+);
 criterion_main!(benches);

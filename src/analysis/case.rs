@@ -84,6 +84,10 @@ pub struct CaseParams {
     /// Cycles run at most before the run is reported not converged
     /// (1 to 100000; model.md section 6.1). Default 200.
     pub max_cycles: usize,
+    /// Prove shakedown by a safe state before the first cycle without slip
+    /// (model.md section 6.4). Default on; off, asymptotic shakedown is run
+    /// out to its first cycle without slip.
+    pub safe_state: bool,
 }
 
 impl Default for CaseParams {
@@ -102,6 +106,7 @@ impl Default for CaseParams {
             nodes: 128,
             steps: 400,
             max_cycles: crate::stepping::steady::DEFAULT_MAX_CYCLES,
+            safe_state: true,
         }
     }
 }
@@ -152,6 +157,7 @@ impl Case {
         }
         let mut options = StepOptions::default();
         options.convergence.max_cycles = p.max_cycles;
+        options.convergence.safe_state = p.safe_state;
         let initial = resolve_initial(&p.initial, &material, &cycle, &disc)?;
         Ok(Case {
             material,

@@ -89,6 +89,10 @@ pub struct ModelArgs {
     /// Cycle cap before a run is reported not-converged.
     #[arg(long, value_name = "CYCLES", allow_hyphen_values = true)]
     pub max_cycles: Option<String>,
+    /// Run asymptotic shakedown out to its first cycle without slip instead
+    /// of stopping once a safe state proves it (docs/model.md section 6.4).
+    #[arg(long)]
+    pub run_out: bool,
 }
 
 /// Flags that define one case. Unset flags keep the preset's (or the
@@ -251,6 +255,9 @@ impl ModelArgs {
         }
         if let Some(v) = flag("max-cycles", &self.max_cycles, count)? {
             p.max_cycles = v;
+        }
+        if self.run_out {
+            p.safe_state = false;
         }
         Ok(p)
     }

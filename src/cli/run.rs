@@ -65,6 +65,7 @@ pub fn to_json(params: &CaseParams, s: &Summary, history: &[f64]) -> serde_json:
         "terminal_time": s.terminal_time,
         "terminal_theta": s.terminal_theta,
         "trend": s.trend,
+        "certificate": s.certificate,
         "outcome": s.outcome(),
         "version": env!("CARGO_PKG_VERSION"),
         "dissipation_history": history,
@@ -80,6 +81,7 @@ pub fn to_json(params: &CaseParams, s: &Summary, history: &[f64]) -> serde_json:
             "nodes": params.nodes,
             "steps": params.steps,
             "max_cycles": params.max_cycles,
+            "safe_state": params.safe_state,
         }
     })
 }
@@ -104,6 +106,13 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
     );
     let how = match s.approach {
         Approach::NoSlipCycle => "a whole cycle without slip".to_string(),
+        Approach::SafeState => match &s.certificate {
+            Some(c) => format!(
+                "a safe state: margin {:.3e} > f C R = {:.3e} x {:.3e}, so all slip to come is at most {:.3e}",
+                c.margin, c.coupling, c.distance, c.slip_bound
+            ),
+            None => "a safe state".to_string(),
+        },
         Approach::Converged => format!(
             "W changed by less than 0.01 % over {} successive cycles",
             shakedown::stepping::steady::SETTLE_CYCLES
@@ -122,11 +131,22 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
         ),
     };
     let _ = writeln!(o, "state     {}  ({how})", s.state);
-    let _ = writeln!(
-        o,
-        "W         {:.6e}  (last cycle, W mu / ((kappa+1) p0^2 a^2))",
-        s.dissipation
-    );
+    match &s.certificate {
+        Some(c) => {
+            let _ = writeln!(
+                o,
+                "W         {:.6e}  (steady cycle: W tends to zero; {:.6e} in cycle {}, the last one run)",
+                s.dissipation, c.last_dissipation, c.cycle
+            );
+        }
+        None => {
+            let _ = writeln!(
+                o,
+                "W         {:.6e}  (last cycle, W mu / ((kappa+1) p0^2 a^2))",
+                s.dissipation
+            );
+        }
+    }
     let _ = writeln!(
         o,
         "rotation  {:.6e} per cycle (mean g)",

@@ -389,6 +389,11 @@ impl Contact {
         &self.residual_shear
     }
 
+    /// The operators `H` and `|D|` on the contact's nodes.
+    pub fn operators(&self) -> &std::sync::Arc<Operators> {
+        &self.ops
+    }
+
     /// The material (friction and elastic constants).
     pub fn material(&self) -> &Material {
         &self.material

@@ -17,7 +17,7 @@ use crate::analysis::sweep::{SweepSpec, CSV_HEADER};
 use crate::contact::SlipDirection;
 use crate::io::read::escape_text;
 use crate::model::{Cycle, Discretisation, LoadPoint, Material, Plane};
-use crate::stepping::steady::{Approach, SteadyState};
+use crate::stepping::steady::{Approach, Convergence, SteadyState};
 use crate::stepping::Summary;
 
 /// The version of the tool that wrote a file, as its first comment line says.
@@ -196,7 +196,7 @@ pub fn check_preamble(content: &[u8], expected: &Metadata) -> Result<(), Metadat
 pub fn sweep_metadata(spec: &SweepSpec) -> Metadata {
     let mut m = Metadata::new("sweep");
     model_entries(&mut m, &spec.material(), spec.center(), spec.slope());
-    disc_entries(&mut m, &spec.disc(), spec.options().convergence.max_cycles);
+    disc_entries(&mut m, &spec.disc(), &spec.options().convergence);
     m.push("lambda", join(spec.load_factors()));
     m.push("phi", join(spec.phases()));
     let names: Vec<String> = spec.initials().iter().map(|i| i.name()).collect();
@@ -214,7 +214,7 @@ pub fn case_metadata(table: &str, case: &Case, initial: &str) -> Metadata {
         case.cycle.center(),
         case.cycle.slope(),
     );
-    disc_entries(&mut m, &case.disc, case.options.convergence.max_cycles);
+    disc_entries(&mut m, &case.disc, &case.options.convergence);
     m.push("lambda", case.cycle.load_factor());
     m.push("phi", case.cycle.phase());
     m.push("initial", initial);
@@ -229,10 +229,21 @@ fn model_entries(m: &mut Metadata, material: &Material, center: LoadPoint, slope
         .push("center", format!("{},{}", center.x(), center.y()));
 }
 
-fn disc_entries(m: &mut Metadata, disc: &Discretisation, max_cycles: usize) {
+fn disc_entries(m: &mut Metadata, disc: &Discretisation, convergence: &Convergence) {
     m.push("nodes", disc.nodes())
         .push("steps", disc.steps_per_cycle())
-        .push("max-cycles", max_cycles);
+        .push("max-cycles", convergence.max_cycles);
+    // How shakedown may be proven: with safe states (model.md section 6.4)
+    // or only by a cycle without slip (`--run-out`); the cycle counts of
+    // asymptotic shakedown differ, so files of the two do not mix.
+    m.push(
+        "verdicts",
+        if convergence.safe_state {
+            "safe-state"
+        } else {
+            "run-out"
+        },
+    );
 }
 
 fn join(values: &[f64]) -> String {
@@ -585,15 +596,10 @@ impl SlipMapHead {
             .parse()
             .map_err(|_| bad("state", state_text, "not a steady state".into()))?;
         let approach_text = get("approach")?;
-        let approach = [
-            Approach::NoSlipCycle,
-            Approach::Converged,
-            Approach::Terminal,
-            Approach::Cap,
-        ]
-        .into_iter()
-        .find(|a| a.as_str() == approach_text)
-        .ok_or_else(|| bad("approach", approach_text, "not a way to a verdict".into()))?;
+        let approach = Approach::ALL
+            .into_iter()
+            .find(|a| a.as_str() == approach_text)
+            .ok_or_else(|| bad("approach", approach_text, "not a way to a verdict".into()))?;
         let summary = Summary {
             state,
             approach,
@@ -604,6 +610,7 @@ impl SlipMapHead {
             terminal_time: None,
             terminal_theta: None,
             trend: None,
+            certificate: None,
         };
         Ok(Self {
             material,

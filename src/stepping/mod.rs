@@ -5,6 +5,7 @@
 
 mod driver;
 mod outcome;
+pub mod safe_state;
 pub mod steady;
 mod stepper;
 pub mod verdict;
@@ -12,6 +13,7 @@ mod zones;
 
 pub use driver::{drive, Control, Driven, Goal, Observer, Silent};
 pub use outcome::{Outcome, ShakedownProof};
+pub use safe_state::Certificate;
 pub use stepper::{
     operators, AtCenter, Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary,
 };

@@ -17,6 +17,9 @@ pub enum ShakedownProof {
     /// A whole cycle passed with no slip at any node: the next cycle starts
     /// from the same state under the same loads, so no cycle slips again.
     NoSlipCycle,
+    /// A safe state close enough to the slip reached bounds all slip still
+    /// to come, so the slip per cycle tends to zero (model.md section 6.4).
+    SafeState,
     /// The paper's 0.01 % rule on a cycle that did not slip (kept for
     /// completeness; a cycle without slip is normally caught first).
     Converged,
@@ -105,10 +108,10 @@ impl Summary {
         let load = self.terminal_load.unwrap_or_default();
         match self.state {
             SteadyState::Shakedown => Outcome::Shakedown {
-                proof: if self.approach == Approach::NoSlipCycle {
-                    ShakedownProof::NoSlipCycle
-                } else {
-                    ShakedownProof::Converged
+                proof: match self.approach {
+                    Approach::NoSlipCycle => ShakedownProof::NoSlipCycle,
+                    Approach::SafeState => ShakedownProof::SafeState,
+                    _ => ShakedownProof::Converged,
                 },
             },
             SteadyState::CyclicSlip => Outcome::CyclicSlip {

@@ -170,12 +170,17 @@ pub struct Convergence {
     /// Give up after this many cycles: the run is then `not-converged`.
     /// There is no other way out: no verdict is drawn from a trend.
     pub max_cycles: usize,
+    /// Look for a safe state that proves shakedown before the first cycle
+    /// without slip (model.md section 6.4). Off, a run that shakes down
+    /// asymptotically is run out to its first cycle without slip.
+    pub safe_state: bool,
 }
 
 /// The default cycle cap: boundary runs that shake down asymptotically
-/// need up to about 1000 cycles to reach a cycle without slip (`fig6`:
-/// `phi = 17 pi/48`, path `7,-5`, 1010 cycles). Only runs that never
-/// settle pay for the cap.
+/// need up to about 1900 cycles to reach a cycle without slip (`fig6`:
+/// `phi = 17 pi/48`, path `7,-5`, 1906 cycles) when run out; a safe state
+/// (model.md section 6.4) usually proves them after tens. Only runs that
+/// never settle pay for the cap.
 pub const DEFAULT_MAX_CYCLES: usize = 2000;
 
 impl Default for Convergence {
@@ -183,6 +188,7 @@ impl Default for Convergence {
         Self {
             tolerance: 1e-4,
             max_cycles: DEFAULT_MAX_CYCLES,
+            safe_state: true,
         }
     }
 }
@@ -197,6 +203,10 @@ pub enum Approach {
     /// `W` changed by at most the tolerance over [`SETTLE_CYCLES`]
     /// successive cycles, all classified alike: the paper's 0.01 % rule.
     Converged,
+    /// A safe state close enough to the slip reached that all slip still to
+    /// come is bounded: shakedown, proven before the first cycle without
+    /// slip (model.md section 6.4).
+    SafeState,
     /// Gross slip or separation ended the run.
     Terminal,
     /// The cycle cap was reached without a verdict: `not-converged`.
@@ -204,11 +214,21 @@ pub enum Approach {
 }
 
 impl Approach {
+    /// Every approach, in the order of model.md section 6.3.
+    pub const ALL: [Approach; 5] = [
+        Approach::Terminal,
+        Approach::NoSlipCycle,
+        Approach::SafeState,
+        Approach::Converged,
+        Approach::Cap,
+    ];
+
     /// The word used in JSON.
     pub fn as_str(self) -> &'static str {
         match self {
             Approach::NoSlipCycle => "no-slip-cycle",
             Approach::Converged => "converged",
+            Approach::SafeState => "safe-state",
             Approach::Terminal => "terminal",
             Approach::Cap => "cap",
         }

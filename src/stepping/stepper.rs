@@ -8,6 +8,7 @@ use std::sync::Arc;
 use serde::Serialize;
 
 use super::driver::{drive, Control, Goal, Silent};
+use super::safe_state::{self, Certificate, SafeStateSearch};
 use super::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
 use super::verdict::{trend, Trend};
 use super::zones::{slip_zones, zone_changes, SlipZone, ZoneChange};
@@ -191,6 +192,10 @@ pub struct Summary {
     /// For a `not-converged` run: the trend of `W` over the last cycles and
     /// an estimate of its limit.
     pub trend: Option<Trend>,
+    /// For shakedown proven by a safe state (approach `safe-state`): the
+    /// safe state's margin and distance, and the bound on the slip still
+    /// to come (model.md section 6.4).
+    pub certificate: Option<Certificate>,
 }
 
 /// Where a transient to the cycle centre `A` left the contact
@@ -283,6 +288,9 @@ pub struct Stepper {
     zone_events: bool,
     /// Where in the current increment a step paused at an event.
     resume: Option<f64>,
+    /// The search for a safe state that proves shakedown early (set up at
+    /// the first cycle that needs it).
+    safe_state: Option<Box<SafeStateSearch>>,
 }
 
 /// Set up the shared pieces of a run once.
@@ -390,6 +398,7 @@ impl Stepper {
             zone_dirs: contact_dirs,
             zone_events: true,
             resume: None,
+            safe_state: None,
         }
     }
 
@@ -773,6 +782,7 @@ impl Stepper {
             terminal_time: time,
             terminal_theta: theta,
             trend: None,
+            certificate: None,
         };
         report.events.push(event);
         report
@@ -832,9 +842,10 @@ impl Stepper {
                     increment: 0,
                 };
                 if matches!(self.status, Status::Running) {
-                    if let Some((state, approach)) =
-                        assess(&self.history, &self.options.convergence)
-                    {
+                    let verdict = assess(&self.history, &self.options.convergence)
+                        .map(|(state, approach)| (state, approach, None))
+                        .or_else(|| self.safe_state_verdict());
+                    if let Some((state, approach, certificate)) = verdict {
                         let last = self.history.last().expect("just pushed");
                         // A run that reached the cap keeps its last cycle
                         // and says where `W` was heading.
@@ -844,16 +855,25 @@ impl Stepper {
                         } else {
                             None
                         };
+                        // A safe state proves that W tends to zero: the
+                        // steady cycle's W and rotation are zero (the last
+                        // cycle's W is in the certificate).
+                        let (dissipation, rotation_per_cycle) = if certificate.is_some() {
+                            (0.0, 0.0)
+                        } else {
+                            (last.dissipation, last.rotation)
+                        };
                         let summary = Summary {
                             state,
                             approach,
-                            dissipation: last.dissipation,
+                            dissipation,
                             cycles: self.history.len(),
-                            rotation_per_cycle: last.rotation,
+                            rotation_per_cycle,
                             terminal_load: None,
                             terminal_time: None,
                             terminal_theta: None,
                             trend,
+                            certificate,
                         };
                         report
                             .events
@@ -863,6 +883,40 @@ impl Stepper {
                 }
             }
         }
+    }
+
+    /// After a complete cycle without a verdict: shakedown proven by a safe
+    /// state near the slip reached (model.md section 6.4), if there is one.
+    fn safe_state_verdict(&mut self) -> Option<(SteadyState, Approach, Option<Certificate>)> {
+        if !self.options.convergence.safe_state {
+            return None;
+        }
+        let n = self.history.len();
+        let last = self.history.last()?;
+        // Every node slipped: ratchetting, or on its way to it.
+        if last.slipping_nodes().iter().all(|&s| s) {
+            return None;
+        }
+        // Only a slow fall is worth a search: W falling fast (by more than
+        // SLOW_FALL a cycle) reaches a cycle without slip, or its level,
+        // sooner than a search pays for itself.
+        let falling = n >= 2
+            && last.dissipation < self.history[n - 2].dissipation
+            && last.dissipation > safe_state::SLOW_FALL * self.history[n - 2].dissipation;
+        if self.safe_state.is_none() && (last.cycle < safe_state::FIRST_ATTEMPT || !falling) {
+            return None;
+        }
+        let search = self.safe_state.get_or_insert_with(|| {
+            Box::new(SafeStateSearch::new(
+                &self.contact,
+                &self.cycle,
+                self.disc.steps_per_cycle(),
+            ))
+        });
+        let ops = Arc::clone(self.contact.operators());
+        search
+            .check(&self.contact, &ops, last.cycle, last.dissipation, falling)
+            .map(|c| (SteadyState::Shakedown, Approach::SafeState, Some(c)))
     }
 
     /// Step until the steady state is reached (or the run ends): [`drive`]

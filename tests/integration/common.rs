@@ -194,6 +194,7 @@ pub fn fake_rows(
                     terminal_time: None,
                     terminal_theta: None,
                     trend: None,
+                    certificate: None,
                 })
             };
             Row {

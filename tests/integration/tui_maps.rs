@@ -95,6 +95,7 @@ fn fake_row(load_factor: f64, phase: f64, last: f64) -> Option<Row> {
             terminal_time: None,
             terminal_theta: None,
             trend: None,
+            certificate: None,
         }),
     };
     Some(Row {

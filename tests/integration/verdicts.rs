@@ -1,8 +1,10 @@
 //! Steady-state verdicts near the boundaries between states
-//! (`docs/model.md` section 6.3): a verdict is proven (a cycle without slip), or
-//! converged by the 0.01 % rule, or the run is `not-converged`. Checked
-//! against runs taken much further: a convergence tolerance of `1e-8` and a
-//! cap of 2000 cycles.
+//! (`docs/model.md` sections 6.3 and 6.4): a verdict is proven (a cycle
+//! without slip, or a safe state that bounds all slip to come), or converged
+//! by the 0.01 % rule, or the run is `not-converged`. Checked against runs
+//! taken much further: a convergence tolerance of `1e-8`, a cap of 2000
+//! cycles and no safe states (asymptotic shakedown run out to its first
+//! cycle without slip).
 
 use std::f64::consts::PI;
 
@@ -17,6 +19,7 @@ use shakedown::{
 const REFERENCE: Convergence = Convergence {
     tolerance: 1e-8,
     max_cycles: 2000,
+    safe_state: false,
 };
 
 fn stepper(load_factor: f64, phase: f64, initial: &str, convergence: Convergence) -> Stepper {
@@ -39,9 +42,10 @@ fn run(load_factor: f64, phase: f64, initial: &str) -> Summary {
         .unwrap()
 }
 
-/// The verdict the defaults give on a history: the first cycle at which
-/// `assess` has one. (A run's increments do not depend on the convergence
-/// criteria, so this is the default run's verdict.)
+/// The verdict the 0.01 % rule and the cycle without slip give on a
+/// history: the first cycle at which `assess` has one. (A run's increments
+/// do not depend on the convergence criteria, so this is the verdict of a
+/// run without safe states.)
 fn default_verdict(history: &[CycleRecord]) -> Option<(usize, SteadyState, Approach)> {
     let defaults = Convergence::default();
     (1..=history.len()).find_map(|k| assess(&history[..k], &defaults).map(|(s, a)| (k, s, a)))
@@ -74,8 +78,14 @@ fn fig8_sharp_transition_at_half_pi() {
     // ratchetting just above.
     let below = run(5.01, PI / 2.0, "OA");
     assert_eq!(below.state, SteadyState::Shakedown, "{below:?}");
-    assert_eq!(below.approach, Approach::NoSlipCycle);
+    assert_eq!(below.approach, Approach::SafeState);
     assert_eq!(below.dissipation, 0.0);
+    let c = below
+        .certificate
+        .expect("a safe-state verdict carries its proof");
+    assert!(c.margin > c.coupling * c.distance, "{c:?}");
+    assert!(c.last_dissipation > 0.0 && c.cycle == below.cycles, "{c:?}");
+    assert!(below.cycles < 200, "{below:?}");
     let above = run(5.02, PI / 2.0, "OA");
     assert_eq!(above.state, SteadyState::RatchettingMonotonic, "{above:?}");
     assert!(above.dissipation > 1e-6 && above.rotation_per_cycle.abs() > 1e-6);
@@ -90,6 +100,7 @@ fn the_cap_is_not_converged_with_a_trend() {
         "5,7",
         Convergence {
             max_cycles: 60,
+            safe_state: false,
             ..Convergence::default()
         },
     )
@@ -110,9 +121,10 @@ fn the_cap_is_not_converged_with_a_trend() {
 /// cyclic slip | shakedown at `phi = 11-12 pi/48`, ratchetting | shakedown at
 /// `30-31 pi/48`, shakedown | cyclic slip at `35 pi/48` (where some
 /// transients shake down and others do not).
-const BOUNDARY_SAMPLE: [(f64, &str); 8] = [
+const BOUNDARY_SAMPLE: [(f64, &str); 9] = [
     (11.0, "5,-7"),
     (12.0, "OA"),
+    (17.0, "7,-5"),
     (18.0, "-5,5"),
     (30.0, "-7,-7"),
     (31.0, "5,7"),
@@ -129,16 +141,38 @@ fn fig6_boundary_runs_agree_with_runs_taken_to_2000_cycles() {
             let mut s = stepper(5.1, k * PI / 48.0, initial, REFERENCE);
             let reference = s.run_to_steady().unwrap();
             let verdict = default_verdict(s.history());
-            (k, initial, reference, verdict, s.history().to_vec())
+            let defaults = run(5.1, k * PI / 48.0, initial);
+            (
+                k,
+                initial,
+                reference,
+                verdict,
+                s.history().to_vec(),
+                defaults,
+            )
         })
         .collect();
     let mut report = Vec::new();
-    for (k, initial, reference, verdict, history) in &results {
+    for (k, initial, reference, verdict, history, defaults) in &results {
         let (cycles, state, approach) = verdict.expect("the defaults end before the reference");
         report.push(format!(
-            "phi = {k} pi/48, {initial}: default {state} ({approach}, {cycles} cycles), reference {} ({}, {} cycles)",
+            "phi = {k} pi/48, {initial}: without safe states {state} ({approach}, {cycles} cycles), defaults {} ({}, {} cycles), reference {} ({}, {} cycles)",
+            defaults.state, defaults.approach, defaults.cycles,
             reference.state, reference.approach, reference.cycles
         ));
+        // The defaults (safe states on) agree with the run-out reference,
+        // and a safe state never ends a run later than the run-out.
+        assert_eq!(defaults.state, reference.state, "{report:#?}");
+        assert!(defaults.cycles <= reference.cycles, "{report:#?}");
+        if defaults.approach == Approach::SafeState {
+            assert_eq!(reference.approach, Approach::NoSlipCycle, "{report:#?}");
+        } else {
+            assert_eq!(
+                defaults.dissipation,
+                history[defaults.cycles - 1].dissipation,
+                "{report:#?}"
+            );
+        }
         assert_ne!(
             reference.state,
             SteadyState::NotConverged,
