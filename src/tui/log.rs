@@ -247,7 +247,12 @@ pub fn entries(events: &[Event], at: At, directions: &[SlipDirection]) -> Vec<Lo
                 EventKind::State,
                 0,
                 None,
-                format!("classified: {} after {} cycles", s.state.as_str(), s.cycles),
+                format!(
+                    "classified: {} after {} cycles ({})",
+                    s.state.as_str(),
+                    s.cycles,
+                    s.approach
+                ),
             )),
             Event::GrossSlip { load, time } => {
                 let mut e = entry(
