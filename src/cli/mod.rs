@@ -344,12 +344,12 @@ pub const INTERACTIVE_NODES: usize = 512;
 /// See [`INTERACTIVE_NODES`].
 pub const INTERACTIVE_STEPS: usize = 2000;
 
-/// A rough time for one run to its steady state: 25 ms at the defaults
+/// A rough time for one run to its steady state: 10 ms at the defaults
 /// (128 nodes, 400 increments per cycle), growing as `N^2.4` with the node
 /// count (more events a cycle, each an update of the reduced inverse;
-/// measured 3.6 s at 1024 nodes) and at most linearly with the increments.
+/// measured 1.3 s at 1024 nodes) and at most linearly with the increments.
 pub fn expected_run_seconds(nodes: usize, steps: usize) -> f64 {
-    0.025 * (nodes as f64 / 128.0).powf(2.4) * (steps as f64 / 400.0)
+    0.010 * (nodes as f64 / 128.0).powf(2.4) * (steps as f64 / 400.0)
 }
 
 /// Warn on stderr (one line) when `--nodes` or `--steps` is above the

@@ -34,6 +34,7 @@
 use std::f64::consts::PI;
 
 use super::cache::{self, ResponseCache};
+use super::kernels::{self, at_limit, end_margins, rate_extremes, SCREEN};
 use super::operators::{FftScratch, Operators};
 use super::solver::{
     fingerprint, Advanced, Contact, ContactEnd, ContactError, SlipDirection, Solved, Workspace,
@@ -55,106 +56,6 @@ const GROSS_TOL: f64 = 1e-9;
 fn on_torque_limit(point: LoadPoint, dy: f64) -> LoadPoint {
     let beyond = f64::from_bits((2.0 * PI).to_bits() + 1);
     LoadPoint::new(point.x(), beyond.copysign(dy))
-}
-
-/// The nodes where `f p - |q| + off <= TRACTION_TOL` (stick nodes at the
-/// friction limit, `off` being infinite on slip nodes) into `out`, in node
-/// order: a branch-free test of four nodes at a time, and a look at each
-/// only in the rare groups that hold one.
-fn at_limit(p: &[f64], q: &[f64], off: &[f64], f: f64, out: &mut Vec<usize>) {
-    out.clear();
-    let slack = |j: usize| f * p[j] - q[j].abs() + off[j];
-    let groups = four(p).iter().zip(four(q)).zip(four(off));
-    for (g, ((p4, q4), o4)) in groups.enumerate() {
-        let mut hit = [false; 4];
-        for i in 0..4 {
-            hit[i] = f * p4[i] - q4[i].abs() + o4[i] <= TRACTION_TOL;
-        }
-        if (hit[0] | hit[1]) | (hit[2] | hit[3]) {
-            out.extend((4 * g..4 * g + 4).filter(|&j| slack(j) <= TRACTION_TOL));
-        }
-    }
-    let whole = p.len() - p.len() % 4;
-    out.extend((whole..p.len()).filter(|&j| slack(j) <= TRACTION_TOL));
-}
-
-/// `(max |r|, min s r)` over the nodes, in four lanes.
-fn rate_extremes(r: &[f64], sgn: &[f64]) -> (f64, f64) {
-    let mut big = [0.0f64; 4];
-    let mut low = [0.0f64; 4];
-    let (rc, sc) = (r.chunks_exact(4), sgn.chunks_exact(4));
-    let (rt, st) = (rc.remainder(), sc.remainder());
-    for (rr, ss) in rc.zip(sc) {
-        for i in 0..4 {
-            let a = rr[i].abs();
-            big[i] = if a > big[i] { a } else { big[i] };
-            let v = ss[i] * rr[i];
-            low[i] = if v < low[i] { v } else { low[i] };
-        }
-    }
-    let mut scale = big.iter().fold(0.0f64, |m, &v| m.max(v));
-    let mut worst = low.iter().fold(0.0f64, |m, &v| m.min(v));
-    for (&r, &s) in rt.iter().zip(st) {
-        scale = scale.max(r.abs());
-        worst = worst.min(s * r);
-    }
-    (scale, worst)
-}
-
-/// A node whose end margin (below) is under this is tested exactly. The
-/// margin is the exact test's quantity summed in another order, so a node a
-/// round-off above zero is tested too.
-const SCREEN: f64 = 1e-9;
-
-/// The margins at the end of the segment into `out`, and the lowest: at
-/// each node the lower of its end pressure and its end slack `f p -+ q`
-/// (plus `TRACTION_TOL`, and infinite on slip nodes through `off`).
-/// Negative: the node may reach an event. Branch-free, in four lanes.
-fn end_margins(v: [&[f64]; 7], f: f64, ex: f64, ey: f64, out: &mut [f64]) -> f64 {
-    let [p, q, tpx, tpy, tqx, tqy, off] = v;
-    let margin = |p: f64, q: f64, px: f64, py: f64, qx: f64, qy: f64, off: f64| {
-        let ep = p + ex * px + ey * py;
-        let eq = q + ex * qx + ey * qy;
-        // The lower of the forward and backward slack `f p -+ q`: the same
-        // bits as `min(f p - q, f p + q)`, in fewer operations.
-        let m = f * ep - eq.abs() + off + TRACTION_TOL;
-        if ep < m {
-            ep
-        } else {
-            m
-        }
-    };
-    let mut low = [f64::INFINITY; 4];
-    // Whole groups of four as arrays: no length checks in the loop.
-    let chunks = four(p)
-        .iter()
-        .zip(four(q))
-        .zip(four(tpx))
-        .zip(four(tpy))
-        .zip(four(tqx))
-        .zip(four(tqy))
-        .zip(four(off))
-        .zip(out.as_chunks_mut::<4>().0);
-    for (((((((p, q), px), py), qx), qy), o), out) in chunks {
-        for i in 0..4 {
-            let m = margin(p[i], q[i], px[i], py[i], qx[i], qy[i], o[i]);
-            out[i] = m;
-            low[i] = if m < low[i] { m } else { low[i] };
-        }
-    }
-    let mut lowest = low.iter().fold(f64::INFINITY, |m, &v| m.min(v));
-    for j in p.len() - p.len() % 4..p.len() {
-        let m = margin(p[j], q[j], tpx[j], tpy[j], tqx[j], tqy[j], off[j]);
-        out[j] = m;
-        lowest = lowest.min(m);
-    }
-    lowest
-}
-
-/// The whole groups of four of `s`, as arrays (no length checks in a loop
-/// over them).
-fn four(s: &[f64]) -> &[[f64; 4]] {
-    s.as_chunks::<4>().0
 }
 
 /// What happened at an event inside an increment.
@@ -338,12 +239,8 @@ impl Engine {
         } else {
             (&mut self.tpy, &mut self.tqy, &self.hpy, &self.hqy)
         };
-        for (((t, h), ex), ey) in tp.iter_mut().zip(hp).zip(&self.epx).zip(&self.epy) {
-            *t = (ux * ex + uy * ey) + h;
-        }
-        for (((t, h), ex), ey) in tq.iter_mut().zip(hq).zip(&self.eqx).zip(&self.eqy) {
-            *t = (ux * ex + uy * ey) + h;
-        }
+        kernels::combine_plus(tp, ux, &self.epx, uy, &self.epy, hp);
+        kernels::combine_plus(tq, ux, &self.eqx, uy, &self.eqy, hq);
     }
 
     /// The responses to the direction of `axis` from its slip rates in
@@ -779,9 +676,7 @@ impl Contact {
     #[inline]
     fn combine(&self, w: &mut Workspace, dx: f64, dy: f64) {
         let e = &mut w.engine;
-        for ((r, gx), gy) in e.rg.iter_mut().zip(&e.gx).zip(&e.gy) {
-            *r = dx * gx + dy * gy;
-        }
+        kernels::combine(&mut e.rg, dx, &e.gx, dy, &e.gy);
     }
 
     /// The first event in `(0, remaining]` of the segment with the cached
@@ -914,21 +809,16 @@ impl Contact {
             return;
         }
         let (tx, ty) = (t * dx, t * dy);
-        let loads = self.material.to_loads(load);
-        let two_pi = 2.0 * PI;
-        let pr = self.material.beta() * loads.radial / two_pi;
-        let qr = self.material.alpha() * loads.radial / two_pi;
-        let qt = loads.torque / two_pi;
+        let elastic = self.elastic_part(load);
         if e.set.is_empty() {
             // Stick only: the residual part does not change.
-            let parts = self.sin.iter().zip(&self.residual_pressure);
-            for (p, (sn, rp)) in self.pressure.iter_mut().zip(parts) {
-                *p = 1.0 - pr * sn + rp;
-            }
-            let parts = self.cos.iter().zip(&self.residual_shear);
-            for (q, (c, rq)) in self.shear.iter_mut().zip(parts) {
-                *q = -qt - qr * c + rq;
-            }
+            let parts = [
+                &self.sin[..],
+                &self.cos,
+                &self.residual_pressure,
+                &self.residual_shear,
+            ];
+            kernels::tractions(elastic, parts, &mut self.pressure, &mut self.shear);
             return;
         }
         // Slip, and its forward and backward parts, change on the set only.
@@ -940,38 +830,25 @@ impl Contact {
             inc.backward[j] += (-dg).max(0.0);
         }
         inc.slipped = true;
-        for ((r, hx), hy) in self.residual_pressure.iter_mut().zip(&e.hpx).zip(&e.hpy) {
-            *r += tx * hx + ty * hy;
-        }
-        for ((r, hx), hy) in self.residual_shear.iter_mut().zip(&e.hqx).zip(&e.hqy) {
-            *r += tx * hx + ty * hy;
-        }
-        for ((q, c), r) in self
-            .shear
-            .iter_mut()
-            .zip(&self.cos)
-            .zip(&self.residual_shear)
-        {
-            *q = -qt - qr * c + r;
-        }
-        // The dissipation f/2 sum |dg| (p before + p after) dtheta, on the
-        // set (|dg| is 0 elsewhere), in the four lanes of node j mod 4
-        // (nodes past the last whole four in lane 0), then p everywhere.
-        let mut acc = [0.0f64; 4];
-        let whole = n - n % 4;
-        for &(j, _) in &e.set {
-            let p_new = 1.0 - pr * self.sin[j] + self.residual_pressure[j];
-            let lane = if j < whole { j % 4 } else { 0 };
-            acc[lane] += (t * e.rg[j]).abs() * (self.pressure[j] + p_new);
-        }
-        for ((p, sn), rp) in self
-            .pressure
-            .iter_mut()
-            .zip(&self.sin)
-            .zip(&self.residual_pressure)
-        {
-            *p = 1.0 - pr * sn + rp;
-        }
+        // One pass over the nodes: the residual tractions move with the
+        // slip rates, `p` and `q` follow, and the dissipation
+        // f/2 sum |dg| (p before + p after) dtheta accumulates.
+        let slide = kernels::Slide {
+            t,
+            tx,
+            ty,
+            elastic,
+            responses: [&e.hpx, &e.hpy, &e.hqx, &e.hqy],
+            trig: [&self.sin, &self.cos],
+            rates: &e.rg,
+        };
+        let state = [
+            &mut self.residual_pressure[..],
+            &mut self.residual_shear,
+            &mut self.pressure,
+            &mut self.shear,
+        ];
+        let acc = kernels::slide(&slide, state);
         let sum = (acc[0] + acc[1]) + (acc[2] + acc[3]);
         let dtheta = 2.0 * PI / n as f64;
         self.increment.dissipation += 0.5 * f * 0.5 * sum * dtheta;
@@ -979,14 +856,28 @@ impl Contact {
 
     /// `p` and `q` at the current load from the elastic and residual parts.
     fn refresh_tractions(&mut self) {
-        let loads = self.material.to_loads(self.load);
+        let parts = [
+            &self.sin[..],
+            &self.cos,
+            &self.residual_pressure,
+            &self.residual_shear,
+        ];
+        kernels::tractions(
+            self.elastic_part(self.load),
+            parts,
+            &mut self.pressure,
+            &mut self.shear,
+        );
+    }
+
+    /// The loads' part of the tractions at `load` (model.md section 2).
+    fn elastic_part(&self, load: LoadPoint) -> kernels::Elastic {
+        let loads = self.material.to_loads(load);
         let two_pi = 2.0 * PI;
-        let pr = self.material.beta() * loads.radial / two_pi;
-        let qr = self.material.alpha() * loads.radial / two_pi;
-        let qt = loads.torque / two_pi;
-        for j in 0..self.pressure.len() {
-            self.pressure[j] = 1.0 - pr * self.sin[j] + self.residual_pressure[j];
-            self.shear[j] = -qt - qr * self.cos[j] + self.residual_shear[j];
+        kernels::Elastic {
+            pr: self.material.beta() * loads.radial / two_pi,
+            qr: self.material.alpha() * loads.radial / two_pi,
+            qt: loads.torque / two_pi,
         }
     }
 

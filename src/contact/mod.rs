@@ -4,6 +4,7 @@
 mod cache;
 mod increment;
 mod inverse;
+mod kernels;
 mod operators;
 mod reduced;
 mod solver;
