@@ -37,7 +37,8 @@ use super::cache::{self, ResponseCache};
 use super::kernels::{self, at_limit, end_margins, rate_extremes, SCREEN};
 use super::operators::{FftScratch, Operators};
 use super::solver::{
-    fingerprint, Advanced, Contact, ContactEnd, ContactError, SlipDirection, Solved, Workspace,
+    fingerprint, same_directions, Advanced, Contact, ContactEnd, ContactError, SlipDirection,
+    Solved, Workspace,
 };
 use super::solver::{DG_TOL, TRACTION_TOL};
 use crate::model::LoadPoint;
@@ -379,7 +380,10 @@ impl Contact {
     /// ```
     pub fn advance(&mut self, target: LoadPoint) -> Result<Advanced, ContactError> {
         let n = self.nodes();
-        let mut w = self.work.take().unwrap_or_else(|| Workspace::new(n));
+        let mut w = self
+            .work
+            .take()
+            .unwrap_or_else(|| Box::new(Workspace::new(n)));
         let result = self.advance_with(target, &mut w);
         self.work = Some(w);
         result
@@ -906,7 +910,7 @@ impl Contact {
         let mut changed = true;
         for iteration in 1..=max_iterations {
             let stale = if iteration == 1 {
-                !w.engine.valid || w.engine.dirs != w.engine.trial
+                !w.engine.valid || !same_directions(&w.engine.dirs, &w.engine.trial)
             } else {
                 changed
             };
@@ -978,7 +982,7 @@ impl Contact {
         }
         // The responses are those of `trial`, now the slip set.
         let e = &w.engine;
-        if e.before != e.dirs {
+        if !same_directions(&e.before, &e.dirs) {
             self.directions.copy_from_slice(&e.dirs);
             self.increment.set_changed = true;
             let load = self.load;

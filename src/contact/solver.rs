@@ -173,6 +173,18 @@ pub(super) fn most_negative(p: &[f64]) -> Option<(usize, f64)> {
         .min_by(|a, b| a.1.total_cmp(&b.1))
 }
 
+/// Whether two slip sets with directions are the same. A branch-free pass
+/// over the direction codes: slice `==` on an enum compares element by
+/// element with an early exit, which does not vectorise, and the increment
+/// asks at every event.
+pub(super) fn same_directions(a: &[SlipDirection], b: &[SlipDirection]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .fold(0u8, |acc, (&x, &y)| acc | (x as u8 ^ y as u8))
+            == 0
+}
+
 /// A hash of a slip set with directions, to notice a cycling active set.
 pub(super) fn fingerprint(dirs: &[SlipDirection]) -> u64 {
     use std::hash::{Hash, Hasher};
@@ -273,8 +285,10 @@ pub struct Contact {
     pub(super) pressure: Vec<f64>,
     pub(super) shear: Vec<f64>,
     pub(super) directions: Vec<SlipDirection>,
-    /// Taken out during a solve so the rest of `self` stays borrowable.
-    pub(super) work: Option<Workspace>,
+    /// Taken out during a solve so the rest of `self` stays borrowable
+    /// (boxed: taking it out and putting it back moves a pointer, not the
+    /// workspace, on every increment).
+    pub(super) work: Option<Box<Workspace>>,
     /// What the last [`Contact::advance`] did.
     pub(super) increment: Increment,
     /// Whether [`Contact::advance`] stops at each event (for a viewer that
@@ -308,7 +322,7 @@ impl Contact {
             pressure: vec![1.0; n],
             shear: vec![0.0; n],
             directions: vec![SlipDirection::Stick; n],
-            work: Some(Workspace::new(n)),
+            work: Some(Box::new(Workspace::new(n))),
             increment: Increment::new(n),
             pause_at_events: false,
         };
@@ -431,7 +445,10 @@ impl Contact {
     pub fn solve(&mut self, load: LoadPoint) -> Result<Solved, ContactError> {
         let n = self.nodes();
         let f = self.material.friction();
-        let mut w = self.work.take().unwrap_or_else(|| Workspace::new(n));
+        let mut w = self
+            .work
+            .take()
+            .unwrap_or_else(|| Box::new(Workspace::new(n)));
         let result = self.solve_with(load, f, n, &mut w);
         self.work = Some(w);
         result
@@ -608,5 +625,40 @@ impl Contact {
             self.invalidate_responses();
         }
         self.directions = trial.directions;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{same_directions, SlipDirection};
+    use proptest::prelude::*;
+
+    fn direction() -> impl Strategy<Value = SlipDirection> {
+        prop_oneof![
+            Just(SlipDirection::Stick),
+            Just(SlipDirection::Forward),
+            Just(SlipDirection::Backward),
+        ]
+    }
+
+    proptest! {
+        /// The branch-free comparison agrees with slice equality, on equal
+        /// sets, sets that differ at one node, and sets of other lengths.
+        #[test]
+        fn same_directions_is_slice_equality(
+            a in proptest::collection::vec(direction(), 0..300),
+            at in any::<prop::sample::Index>(),
+            other in direction(),
+            b in proptest::collection::vec(direction(), 0..300),
+        ) {
+            prop_assert!(same_directions(&a, &a));
+            let mut changed = a.clone();
+            if !changed.is_empty() {
+                let j = at.index(changed.len());
+                changed[j] = other;
+            }
+            prop_assert_eq!(same_directions(&a, &changed), a == changed);
+            prop_assert_eq!(same_directions(&a, &b), a == b);
+        }
     }
 }
