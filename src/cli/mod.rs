@@ -345,11 +345,12 @@ pub const INTERACTIVE_NODES: usize = 512;
 pub const INTERACTIVE_STEPS: usize = 2000;
 
 /// A rough time for one run to its steady state: 10 ms at the defaults
-/// (128 nodes, 400 increments per cycle), growing as `N^2.4` with the node
+/// (128 nodes, 400 increments per cycle), growing as `N^2.2` with the node
 /// count (more events a cycle, each an update of the reduced inverse;
-/// measured 1.3 s at 1024 nodes) and at most linearly with the increments.
+/// measured 0.19 s at 512 nodes and 0.95 s at 1024) and at most linearly
+/// with the increments.
 pub fn expected_run_seconds(nodes: usize, steps: usize) -> f64 {
-    0.010 * (nodes as f64 / 128.0).powf(2.4) * (steps as f64 / 400.0)
+    0.010 * (nodes as f64 / 128.0).powf(2.2) * (steps as f64 / 400.0)
 }
 
 /// Warn on stderr (one line) when `--nodes` or `--steps` is above the
@@ -359,8 +360,10 @@ pub fn warn_if_slow(nodes: usize, steps: usize) {
         return;
     }
     let t = expected_run_seconds(nodes, steps);
-    let time = if t < 1.0 {
+    let time = if t < 0.5 {
         "under a second".to_string()
+    } else if t < 10.0 {
+        format!("about {t:.1} s")
     } else if t < 60.0 {
         format!("about {t:.0} s")
     } else if t < 3600.0 {

@@ -16,6 +16,15 @@
 //! * **a node flips** its direction: its row gains `2 f s H_r,S`, a
 //!   Sherman–Morrison update.
 //!
+//! Each of these changes is a rank-one term `u z^T` added to the inverse.
+//! The terms are not added at once: the inverse is kept as
+//! `B = B0 + U Z^T` with the last few terms pending in `U` and `Z`, so that
+//! a node's leaving costs `O(k t)` (its row and column of `B`, `t` terms
+//! pending) instead of a pass over `B`, an entry costs one pass (its two
+//! products `B c`, `r^T B` read `B0` once) instead of three, and the
+//! pending terms are added to `B0` together, as one matrix product, when
+//! there are `k / 4` of them (at most [`MAX_TERMS`]).
+//!
 //! The inverse is rebuilt from a pivoted LU (faer) when the set changes by
 //! many nodes at once, when an update meets a small pivot, and after a
 //! number of updates proportional to `k`, so the round-off that updates
@@ -34,12 +43,41 @@ const NONE: usize = usize::MAX;
 /// fraction of its scale makes an update unreliable: rebuild instead.
 const PIVOT_TOL: f64 = 1e-8;
 
-/// `M_SS^-1` for the current slip set, column-major with stride `N`.
+/// Room to grow left in each column of the inverse for a set of `k`
+/// nodes (see [`SetInverse::relayout`]).
+fn slack(k: usize) -> usize {
+    (k / 8).max(8)
+}
+
+/// The most rank-one terms kept pending (see the module's documentation).
+const MAX_TERMS: usize = 32;
+
+/// Terms pending at which they are added to `B0`, for a set of `k` nodes:
+/// a quarter of `k`, so that the pending terms cost at most about as much
+/// as a pass over `B0` per change.
+fn term_limit(k: usize) -> usize {
+    (k / 4).clamp(1, MAX_TERMS)
+}
+
+/// `M_SS^-1` for the current slip set, column-major.
 pub(crate) struct SetInverse {
     n: usize,
+    /// The column stride of the inverse: `k` and a little room to grow,
+    /// so that the inverse lies in one nearly contiguous block (about half
+    /// again as fast to read at `k = 300` as columns `N` apart, which
+    /// defeat the prefetcher). The pending terms have stride `N`.
+    ld: usize,
     friction: f64,
-    /// The inverse: entry `(i, j)` at `inv[j * n + i]`, positions `0..k`.
+    /// `B0`: the inverse is `B0 + U Z^T`; entry `(i, j)` at
+    /// `inv[j * ld + i]`, positions `0..k`; room for `N x N`.
     inv: Vec<f64>,
+    /// The pending terms: `u_t` at `terms_u[t * N..]` and `z_t` at
+    /// `terms_z[t * N..]`, by position, `t < terms`.
+    terms_u: Vec<f64>,
+    terms_z: Vec<f64>,
+    terms: usize,
+    /// Scratch for the `terms` coefficients of a low-rank product.
+    coef: Vec<f64>,
     /// Node and slip sign at each position.
     nodes: Vec<usize>,
     signs: Vec<f64>,
@@ -89,11 +127,6 @@ fn column(a: &[f64]) -> MatRef<'_, f64> {
     MatRef::from_column_major_slice(a, a.len(), 1)
 }
 
-/// `a` as a row (`1 x k`).
-fn row(a: &[f64]) -> MatRef<'_, f64> {
-    MatRef::from_column_major_slice(a, 1, a.len())
-}
-
 /// The leading `k x k` block of `inv` (column-major, stride `n`).
 fn block(inv: &[f64], k: usize, n: usize) -> MatRef<'_, f64> {
     MatRef::from_column_major_slice_with_stride(&inv[..(k - 1) * n + k], k, k, n)
@@ -117,10 +150,15 @@ impl SetInverse {
     pub(crate) fn new(n: usize) -> Self {
         Self {
             n,
+            ld: 0,
             friction: f64::NAN,
             // The N x N buffers wait for the first rebuild: a cloned or
             // never-slipping contact does not pay for them.
             inv: Vec::new(),
+            terms_u: Vec::new(),
+            terms_z: Vec::new(),
+            terms: 0,
+            coef: vec![0.0; MAX_TERMS],
             nodes: Vec::with_capacity(n),
             signs: Vec::with_capacity(n),
             pos: vec![NONE; n],
@@ -244,7 +282,6 @@ impl SetInverse {
 
     /// A fresh inverse of `M_SS` from a pivoted LU.
     fn rebuild(&mut self, ops: &Operators, friction: f64, target: &[SlipDirection]) -> bool {
-        let n = self.n;
         for &node in &self.nodes {
             self.pos[node] = NONE;
         }
@@ -259,6 +296,7 @@ impl SetInverse {
         }
         self.friction = friction;
         self.updates = 0;
+        self.terms = 0;
         self.rebuilds += 1;
         self.valid = false;
         let k = self.len();
@@ -266,10 +304,14 @@ impl SetInverse {
             self.valid = true;
             return true;
         }
-        if self.inv.len() < n * n {
-            self.inv = vec![0.0; n * n];
-            self.lu = DenseLu::new(n);
+        if self.inv.len() < self.n * self.n {
+            self.inv = vec![0.0; self.n * self.n];
+            self.terms_u = vec![0.0; self.n * MAX_TERMS];
+            self.terms_z = vec![0.0; self.n * MAX_TERMS];
+            self.lu = DenseLu::new(self.n);
         }
+        self.ld = (k + slack(k)).min(self.n);
+        let n = self.ld;
         // Assemble M_SS column-major (k x k) and factorise it.
         for (b, &col) in self.nodes.iter().enumerate() {
             let hcol = ops.hilbert_col(col);
@@ -301,9 +343,190 @@ impl SetInverse {
         true
     }
 
+    /// Give the inverse the column stride `ld` (at most `N`), moving its
+    /// columns: `O(k^2)`, once per `k / 8` entries at most.
+    fn relayout(&mut self, ld: usize) {
+        let (old, k) = (self.ld, self.len());
+        let ld = ld.min(self.n);
+        if ld > old {
+            for j in (1..k).rev() {
+                self.inv.copy_within(j * old..j * old + k, j * ld);
+            }
+        } else {
+            for j in 1..k {
+                self.inv.copy_within(j * old..j * old + k, j * ld);
+            }
+        }
+        self.ld = ld;
+    }
+
+    /// The pending terms `U` (`which = 0`) or `Z` (`which = 1`) as a
+    /// `k x terms` matrix.
+    fn pending(&self, which: usize) -> MatRef<'_, f64> {
+        let (n, k, t) = (self.n, self.len(), self.terms);
+        let buf = if which == 0 {
+            &self.terms_u
+        } else {
+            &self.terms_z
+        };
+        MatRef::from_column_major_slice_with_stride(&buf[..(t - 1) * n + k], k, t, n)
+    }
+
+    /// `out += X a`, `X` the pending `U` or `Z` (`which`), `a` the first
+    /// `terms` entries of `coef`.
+    fn add_pending(&self, which: usize, out: &mut [f64]) {
+        let t = self.terms;
+        let out = MatMut::from_column_major_slice_mut(out, self.len(), 1);
+        matmul(
+            out,
+            Accum::Add,
+            self.pending(which),
+            column(&self.coef[..t]),
+            1.0,
+            Par::Seq,
+        );
+    }
+
+    /// `coef = X^T x`, `X` the pending `U` or `Z` (`which`).
+    fn pending_dots(&mut self, which: usize, x: &[f64]) {
+        let t = self.terms;
+        let mut coef = std::mem::take(&mut self.coef);
+        let out = MatMut::from_column_major_slice_mut(&mut coef[..t], t, 1);
+        matmul(
+            out,
+            Accum::Replace,
+            self.pending(which).transpose(),
+            column(x),
+            1.0,
+            Par::Seq,
+        );
+        self.coef = coef;
+    }
+
+    /// `coef` = row `p` of the pending `U` or `Z` (`which`).
+    fn pending_row(&mut self, which: usize, p: usize) {
+        let n = self.n;
+        let buf = if which == 0 {
+            &self.terms_u
+        } else {
+            &self.terms_z
+        };
+        for (t, c) in self.coef[..self.terms].iter_mut().enumerate() {
+            *c = buf[t * n + p];
+        }
+    }
+
+    /// Column `p` of `B` into `v` and, if `with_row`, row `p` of `B` into
+    /// `w`.
+    fn row_and_column(&mut self, p: usize, with_row: bool) {
+        let (n, k) = (self.ld, self.len());
+        let mut v = std::mem::take(&mut self.v);
+        v[..k].copy_from_slice(&self.inv[p * n..p * n + k]);
+        if self.terms > 0 {
+            // B_:p = B0_:p + U z_p,:
+            self.pending_row(1, p);
+            self.add_pending(0, &mut v[..k]);
+        }
+        self.v = v;
+        if with_row {
+            let mut w = std::mem::take(&mut self.w);
+            for (j, wj) in w[..k].iter_mut().enumerate() {
+                *wj = self.inv[j * n + p];
+            }
+            if self.terms > 0 {
+                // B_p,: = B0_p,: + Z u_p,:
+                self.pending_row(0, p);
+                self.add_pending(1, &mut w[..k]);
+            }
+            self.w = w;
+        }
+    }
+
+    /// `v = B c` (`c` in `col`, if `with_column`) and `w = B^T r` (`r` in
+    /// `row`): one pass over `B0`, then the pending terms.
+    fn products(&mut self, with_column: bool) {
+        let (n, k) = (self.ld, self.len());
+        let mut v = std::mem::take(&mut self.v);
+        let mut w = std::mem::take(&mut self.w);
+        let b = block(&self.inv, k, n);
+        if with_column {
+            let v_out = MatMut::from_column_major_slice_mut(&mut v[..k], k, 1);
+            matmul(
+                v_out,
+                Accum::Replace,
+                b,
+                column(&self.col[..k]),
+                1.0,
+                Par::Seq,
+            );
+        }
+        let w_out = MatMut::from_column_major_slice_mut(&mut w[..k], k, 1);
+        matmul(
+            w_out,
+            Accum::Replace,
+            b.transpose(),
+            column(&self.row[..k]),
+            1.0,
+            Par::Seq,
+        );
+        if self.terms > 0 {
+            // B c = B0 c + U (Z^T c), B^T r = B0^T r + Z (U^T r).
+            if with_column {
+                let c = std::mem::take(&mut self.col);
+                self.pending_dots(1, &c[..k]);
+                self.col = c;
+                self.add_pending(0, &mut v[..k]);
+            }
+            let r = std::mem::take(&mut self.row);
+            self.pending_dots(0, &r[..k]);
+            self.row = r;
+            self.add_pending(1, &mut w[..k]);
+        }
+        self.v = v;
+        self.w = w;
+    }
+
+    /// Add the pending terms to `B0`.
+    fn flush(&mut self) {
+        let (n, k) = (self.ld, self.len());
+        if self.terms == 0 || k == 0 {
+            self.terms = 0;
+            return;
+        }
+        let mut inv = std::mem::take(&mut self.inv);
+        matmul(
+            block_mut(&mut inv, k, n),
+            Accum::Add,
+            self.pending(0),
+            self.pending(1).transpose(),
+            1.0,
+            Par::Seq,
+        );
+        self.inv = inv;
+        self.terms = 0;
+    }
+
+    /// `B += alpha v w^T` on the leading `k x k` block (`v`, `w` the
+    /// scratch vectors), as a pending term.
+    fn rank_one(&mut self, alpha: f64) {
+        let (n, k) = (self.n, self.len());
+        if k == 0 {
+            return;
+        }
+        let t = self.terms;
+        for (u, &vi) in self.terms_u[t * n..t * n + k].iter_mut().zip(&self.v[..k]) {
+            *u = alpha * vi;
+        }
+        self.terms_z[t * n..t * n + k].copy_from_slice(&self.w[..k]);
+        self.terms += 1;
+        if self.terms >= term_limit(k) {
+            self.flush();
+        }
+    }
+
     /// Node `a` enters with sign `sign`: the bordered inverse.
     fn add(&mut self, ops: &Operators, a: usize, sign: f64) -> bool {
-        let (n, k, f) = (self.n, self.len(), self.friction);
+        let (k, f) = (self.len(), self.friction);
         // Column M_Sa and row M_aS (H is odd and |D| even in theta, so the
         // row is read from column a).
         let hcol = ops.hilbert_col(a);
@@ -314,22 +537,9 @@ impl SetInverse {
             self.row[i] = -dcol[node] + f * sign * hcol[node];
         }
         let d0 = Self::entry(ops, f, a, sign, a);
-        // v = B c, w^T = r^T B (the library's matrix-vector products: these
-        // O(k^2) kernels are the cost of an event at large N).
-        let (v, w) = (&mut self.v[..k], &mut self.w[..k]);
+        // v = B c, w^T = r^T B: the O(k^2) cost of an event at large N.
         if k > 0 {
-            let b = block(&self.inv, k, n);
-            let v_out = MatMut::from_column_major_slice_mut(v, k, 1);
-            matmul(
-                v_out,
-                Accum::Replace,
-                b,
-                column(&self.col[..k]),
-                1.0,
-                Par::Seq,
-            );
-            let w_out = MatMut::from_column_major_slice_mut(w, 1, k);
-            matmul(w_out, Accum::Replace, row(&self.row[..k]), b, 1.0, Par::Seq);
+            self.products(true);
         }
         let rv = dot(&self.row[..k], &self.v[..k]);
         let sigma = d0 - rv;
@@ -350,11 +560,21 @@ impl SetInverse {
             }
         }
         let inv_sigma = 1.0 / sigma;
-        // B += v w^T / sigma; the new row is -w^T / sigma.
+        // B += v w^T / sigma; the new row is -w^T / sigma, the new column
+        // -v / sigma, both in B0 (the pending terms are 0 there).
         for wj in self.w[..k].iter_mut() {
             *wj *= inv_sigma;
         }
         self.rank_one(1.0);
+        let nt = self.n;
+        for t in 0..self.terms {
+            self.terms_u[t * nt + k] = 0.0;
+            self.terms_z[t * nt + k] = 0.0;
+        }
+        if k == self.ld {
+            self.relayout(k + slack(k));
+        }
+        let n = self.ld;
         let (v, w) = (&self.v[..k], &self.w[..k]);
         for (j, &wj) in w.iter().enumerate() {
             self.inv[j * n + k] = -wj;
@@ -369,40 +589,19 @@ impl SetInverse {
         true
     }
 
-    /// `B += alpha v w^T` on the leading `k x k` block, `v` and `w` the
-    /// scratch vectors.
-    fn rank_one(&mut self, alpha: f64) {
-        let (n, k) = (self.n, self.len());
-        if k == 0 {
-            return;
-        }
-        let b = block_mut(&mut self.inv, k, n);
-        matmul(
-            b,
-            Accum::Add,
-            column(&self.v[..k]),
-            row(&self.w[..k]),
-            alpha,
-            Par::Seq,
-        );
-    }
-
     /// The node at position `p` leaves the set.
     fn remove(&mut self, p: usize) -> bool {
-        let (n, k) = (self.n, self.len());
-        let brr = self.inv[p * n + p];
-        let scale = self.inv[p * n..p * n + k]
-            .iter()
-            .fold(0.0f64, |m, v| m.max(v.abs()));
+        let (n, k) = (self.ld, self.len());
+        // Column r (v) and row r (w) of B, then B -= v w^T / B_rr.
+        self.row_and_column(p, true);
+        let brr = self.v[p];
+        let scale = self.v[..k].iter().fold(0.0f64, |m, v| m.max(v.abs()));
         if !brr.is_finite() || brr.abs() <= PIVOT_TOL * scale {
             return false;
         }
-        // Column r (v) and row r (w) of B, then B -= v w^T / B_rr.
-        for i in 0..k {
-            self.v[i] = self.inv[p * n + i];
-            self.w[i] = self.inv[i * n + p] / brr;
+        for wj in &mut self.w[..k] {
+            *wj /= brr;
         }
-        self.rank_one(-1.0);
         if self.loads.is_some() {
             // Without node r the solution is x - B_:r x_r / B_rr (whose
             // entry r is 0).
@@ -414,7 +613,9 @@ impl SetInverse {
                 sol[p] = sol[k - 1];
             }
         }
-        // Move the last position into p.
+        self.rank_one(-1.0);
+        // Move the last position into p (row and column r of B are now 0
+        // and are dropped).
         let removed = self.nodes[p];
         self.pos[removed] = NONE;
         let last = k - 1;
@@ -426,6 +627,11 @@ impl SetInverse {
                 self.inv[j * n + p] = self.inv[j * n + last];
             }
             self.inv[p * n + p] = self.inv[last * n + last];
+            let nt = self.n;
+            for t in 0..self.terms {
+                self.terms_u[t * nt + p] = self.terms_u[t * nt + last];
+                self.terms_z[t * nt + p] = self.terms_z[t * nt + last];
+            }
             let moved = self.nodes[last];
             self.pos[moved] = p;
             self.nodes[p] = moved;
@@ -438,7 +644,7 @@ impl SetInverse {
 
     /// The node at position `p` reverses its direction.
     fn flip(&mut self, ops: &Operators, p: usize) -> bool {
-        let (n, k, f) = (self.n, self.len(), self.friction);
+        let (k, f) = (self.len(), self.friction);
         let node = self.nodes[p];
         let sign = self.signs[p];
         // Row p gains delta = 2 f s H[node, S]; H[node, c] = -H[c, node].
@@ -447,21 +653,14 @@ impl SetInverse {
             self.row[i] = -2.0 * f * sign * hcol[self.nodes[i]];
         }
         // w^T = delta^T B, u = B e_p.
-        let w_out = MatMut::from_column_major_slice_mut(&mut self.w[..k], 1, k);
-        matmul(
-            w_out,
-            Accum::Replace,
-            row(&self.row[..k]),
-            block(&self.inv, k, n),
-            1.0,
-            Par::Seq,
-        );
+        self.products(false);
         let denom = 1.0 + self.w[p];
         if !denom.is_finite() || denom.abs() <= PIVOT_TOL * (1.0 + self.w[p].abs()) {
             return false;
         }
-        for i in 0..k {
-            self.v[i] = self.inv[p * n + i] / denom;
+        self.row_and_column(p, false);
+        for vi in &mut self.v[..k] {
+            *vi /= denom;
         }
         if self.loads.is_some() {
             // Row p of M gains delta and b_p changes by d: the solution
@@ -483,7 +682,8 @@ impl SetInverse {
     /// result goes to `out` by node (other nodes untouched).
     #[cfg(test)]
     pub(crate) fn solve(&mut self, rhs: impl Fn(usize, f64) -> f64, out: &mut [f64]) -> bool {
-        let (n, k) = (self.n, self.len());
+        self.flush();
+        let (n, k) = (self.ld, self.len());
         for (j, bj) in self.w[..k].iter_mut().enumerate() {
             *bj = rhs(self.nodes[j], self.signs[j]);
         }
@@ -627,5 +827,55 @@ mod tests {
             check_kept_rates(&inv, &loads, f, n);
         }
         assert!(inv.rebuilds < steps.len(), "small changes are updates");
+    }
+
+    #[test]
+    fn long_runs_of_updates_with_pending_terms_match_the_system() {
+        // A slip zone that grows one node at a time, as an advancing slip
+        // zone does, with a node leaving now and then and the end node
+        // reversing: every change an update, with terms pending, added to
+        // the inverse and the inverse moved to a wider stride on the way.
+        let n = 256;
+        let f = 0.3;
+        let ops = Operators::new(n);
+        let mut inv = SetInverse::new(n);
+        let shape = |j: usize, a: f64| (j as f64 * a).cos() - 0.2 * (j as f64 * 0.3).sin();
+        let loads: Vec<Vec<f64>> = (1..=4)
+            .map(|a| (0..n).map(|j| shape(j, f64::from(a) * 0.21)).collect())
+            .collect();
+        inv.set_loads([&loads[0], &loads[1], &loads[2], &loads[3]]);
+        let mut d = dirs(n, &[(100, 140, 1.0)]);
+        assert!(inv.update_to(&ops, f, &d));
+        let mut pending = 0;
+        let mut wider = 0;
+        let (forward, backward) = (
+            SlipDirection::from_sign(1.0),
+            SlipDirection::from_sign(-1.0),
+        );
+        for step in 0..90 {
+            let end = 140 + step;
+            d[end] = forward;
+            if step % 7 == 3 {
+                d[100 + step / 7] = SlipDirection::Stick;
+            }
+            let flipped = step % 11 == 5;
+            if flipped {
+                // The newest node reverses: a flip on the next update.
+                assert!(inv.update_to(&ops, f, &d));
+                d[end] = backward;
+            }
+            let stride = inv.ld;
+            assert!(inv.update_to(&ops, f, &d));
+            pending = pending.max(inv.terms);
+            wider += usize::from(inv.ld > stride);
+            if step % 10 == 9 || flipped {
+                assert_eq!(inv.directions(), d);
+                check_kept_rates(&inv, &loads, f, n);
+                let r = residual(&ops, f, &mut inv, n);
+                assert!(r < 1e-10, "residual {r} at step {step}");
+            }
+        }
+        assert_eq!(inv.rebuilds, 1, "every change an update");
+        assert!(pending > 1 && wider > 0, "pending {pending}, wider {wider}");
     }
 }
