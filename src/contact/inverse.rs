@@ -181,15 +181,23 @@ fn fused_wide<S: pulp::Simd>(simd: S, mut f: Fused<'_>) {
         let vr = S::as_simd_f64s(f.r).0;
         let va = S::as_mut_simd_f64s(f.v).0;
         let mut d = [simd.splat_f64s(0.0); 4];
-        for i in 0..whole {
-            let y = [x[0][i], x[1][i], x[2][i], x[3][i]];
-            let sum = simd.mul_add_e_f64s(y[0], s[0], va[i]);
-            let sum = simd.mul_add_e_f64s(y[1], s[1], sum);
-            let sum = simd.mul_add_e_f64s(y[2], s[2], sum);
-            va[i] = simd.mul_add_e_f64s(y[3], s[3], sum);
-            for t in 0..4 {
-                d[t] = simd.mul_add_e_f64s(y[t], vr[i], d[t]);
-            }
+        // Zipped, not indexed: no bounds check in the loop.
+        let rows = va
+            .iter_mut()
+            .zip(vr)
+            .zip(x[0])
+            .zip(x[1])
+            .zip(x[2])
+            .zip(x[3]);
+        for (((((a, &ri), &y0), &y1), &y2), &y3) in rows {
+            let sum = simd.mul_add_e_f64s(y0, s[0], *a);
+            let sum = simd.mul_add_e_f64s(y1, s[1], sum);
+            let sum = simd.mul_add_e_f64s(y2, s[2], sum);
+            *a = simd.mul_add_e_f64s(y3, s[3], sum);
+            d[0] = simd.mul_add_e_f64s(y0, ri, d[0]);
+            d[1] = simd.mul_add_e_f64s(y1, ri, d[1]);
+            d[2] = simd.mul_add_e_f64s(y2, ri, d[2]);
+            d[3] = simd.mul_add_e_f64s(y3, ri, d[3]);
         }
         let lanes = d.map(|dt| {
             let mut l = [0.0f64; 4];
