@@ -377,20 +377,54 @@ impl Contact {
 
     /// Tractions of eqs. (1)-(2) alone: the loads without any slip.
     pub fn elastic_tractions(&self, load: LoadPoint) -> (Vec<f64>, Vec<f64>) {
+        let n = self.sin.len();
+        let (mut p, mut q) = (vec![0.0; n], vec![0.0; n]);
+        self.elastic_tractions_into(load, &mut p, &mut q);
+        (p, q)
+    }
+
+    /// [`Self::elastic_tractions`] into `pressure` and `shear` (one value
+    /// per node each), for callers that visit many load points.
+    pub fn elastic_tractions_into(&self, load: LoadPoint, pressure: &mut [f64], shear: &mut [f64]) {
         let loads = self.material.to_loads(load);
         let (alpha, beta) = (self.material.alpha(), self.material.beta());
         let two_pi = 2.0 * PI;
-        let p = self
-            .sin
-            .iter()
-            .map(|s| 1.0 - beta * loads.radial * s / two_pi)
+        for (p, s) in pressure.iter_mut().zip(&self.sin) {
+            *p = 1.0 - beta * loads.radial * s / two_pi;
+        }
+        for (q, c) in shear.iter_mut().zip(&self.cos) {
+            *q = -loads.torque / two_pi - alpha * loads.radial * c / two_pi;
+        }
+    }
+
+    /// The least of `f p - q` and of `f p + q` (index 0 and 1) at each
+    /// node over the load points `points`, with the elastic tractions of
+    /// eqs. (1)-(2) alone (no slip). Both are affine in the loads, so this
+    /// costs two multiply-adds per node and point.
+    pub fn least_elastic_margins(
+        &self,
+        points: impl IntoIterator<Item = LoadPoint>,
+    ) -> Vec<[f64; 2]> {
+        let f = self.material.friction();
+        let (alpha, beta) = (self.material.alpha(), self.material.beta());
+        let two_pi = 2.0 * PI;
+        // f p -+ q = f +- T / 2 pi + R (+-alpha cos - f beta sin) / 2 pi.
+        let plus: Vec<f64> = (self.cos.iter().zip(&self.sin))
+            .map(|(c, s)| (alpha * c - f * beta * s) / two_pi)
             .collect();
-        let q = self
-            .cos
-            .iter()
-            .map(|c| -loads.torque / two_pi - alpha * loads.radial * c / two_pi)
+        let minus: Vec<f64> = (self.cos.iter().zip(&self.sin))
+            .map(|(c, s)| (-alpha * c - f * beta * s) / two_pi)
             .collect();
-        (p, q)
+        let mut least = vec![[f64::INFINITY; 2]; self.sin.len()];
+        for point in points {
+            let loads = self.material.to_loads(point);
+            let (radial, torque) = (loads.radial, loads.torque / two_pi);
+            for (m, (a, b)) in least.iter_mut().zip(plus.iter().zip(&minus)) {
+                m[0] = m[0].min(f + torque + radial * a);
+                m[1] = m[1].min(f - torque + radial * b);
+            }
+        }
+        least
     }
 
     /// Residual pressure `H g`.
@@ -659,6 +693,31 @@ mod tests {
             }
             prop_assert_eq!(same_directions(&a, &changed), a == changed);
             prop_assert_eq!(same_directions(&a, &b), a == b);
+        }
+
+        /// The least elastic margins from the affine form agree with the
+        /// tractions at each point.
+        #[test]
+        fn least_elastic_margins_are_the_least_over_the_points(
+            points in proptest::collection::vec((-9.0..9.0f64, -9.0..9.0f64), 1..20),
+            friction in 0.05..0.8f64,
+        ) {
+            use crate::model::{LoadPoint, Material, Plane};
+            let material = Material::new(friction, 0.3, Plane::Strain).unwrap();
+            let contact = super::Contact::new(material, std::sync::Arc::new(crate::contact::Operators::new(32)));
+            let loads: Vec<LoadPoint> = points.iter().map(|&(x, y)| LoadPoint::new(x, y)).collect();
+            let least = contact.least_elastic_margins(loads.iter().copied());
+            for j in 0..32 {
+                let mut expected = [f64::INFINITY; 2];
+                for &load in &loads {
+                    let (p, q) = contact.elastic_tractions(load);
+                    expected[0] = expected[0].min(friction * p[j] - q[j]);
+                    expected[1] = expected[1].min(friction * p[j] + q[j]);
+                }
+                for s in 0..2 {
+                    prop_assert!((least[j][s] - expected[s]).abs() < 1e-12, "{j} {s}: {} {}", least[j][s], expected[s]);
+                }
+            }
         }
     }
 }

@@ -19,14 +19,17 @@
 //! reasoning is in `docs/model.md` section 6.4.
 //!
 //! Finding `g_s` is a second-order cone programme (solved with Clarabel):
-//! maximise `delta - f C R` over the safe states. Whatever the solver
-//! returns is checked afresh, exactly, before it is believed.
+//! maximise `delta - f C R` over the safe states. It is solved small and
+//! early (a *quick search*: `g_s - g` among the lowest harmonics, from
+//! cycle 2), which proves the runs that approach shakedown geometrically,
+//! and in full late and rarely (every harmonic, from cycle 20), which the
+//! slow power-law approaches need. Whatever the solver returns is checked
+//! afresh, exactly, before it is believed.
 
+use std::cell::OnceCell;
 use std::f64::consts::PI;
 
 use clarabel::algebra::CscMatrix;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 
 use clarabel::solver::{
     DefaultInfo, DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT,
@@ -64,22 +67,58 @@ pub struct Certificate {
 /// solver's tractions meet the friction law to about `1e-12`.
 const PROOF_TOLERANCE: f64 = 1e-9;
 
-/// The first search for a safe state is made after this cycle, and only
-/// after a cycle whose `W` fell slowly ([`SLOW_FALL`]). A search costs about
-/// as much as 50 to 80 cycles at `N = 128`: most runs settle by themselves
-/// before cycle 20, and a `W` that falls fast reaches a cycle without slip
-/// (or its level) sooner than a search would pay for itself. On the Fig. 3
-/// map this leaves 8 searches in 2275 runs; in `fig6`, 318 in 1225.
+/// The first full search for a safe state is made after this cycle, and
+/// only after a cycle whose `W` fell slowly ([`SLOW_FALL`]). A full search
+/// (all `N - 1` harmonics) costs about as much as 50 to 80 cycles at
+/// `N = 128`; the quick searches ([`QUICK_FIRST`]) have by then proven the
+/// runs whose safe state is smooth, and a `W` that falls fast reaches a
+/// cycle without slip (or its level) sooner than a full search would pay
+/// for itself.
 pub(crate) const FIRST_ATTEMPT: usize = 20;
 
-/// A search is made only after a cycle whose `W` fell by less than this
-/// factor from the cycle before (see `Stepper`).
+/// A full search is made only after a cycle whose `W` fell by less than
+/// this factor from the cycle before (see `Stepper`).
 pub(crate) const SLOW_FALL: f64 = 0.8;
-/// Later searches are spaced by this factor in the cycle count. The best
-/// safe state hardly depends on the slip reached (a search at cycle 35
+/// Later full searches are spaced by this factor in the cycle count. The
+/// best safe state hardly depends on the slip reached (a search at cycle 35
 /// finds the one found at cycle 10 to 1e-9), so the candidate found is
 /// re-checked after every cycle, at `O(N)`, and searches are rare.
 const ATTEMPT_GROWTH: f64 = 4.0;
+
+/// The first quick search is made after this cycle, after any cycle whose
+/// `W` fell, and later ones at twice the cycle count of the last. A quick
+/// search looks for a safe state among the slip changes of the lowest
+/// [`QUICK_HARMONICS`] harmonics only, and only on the margins that can
+/// bind: it costs about two cycles at `N = 128`, against the tens of cycles
+/// that a run with a smooth safe state still needs before its first cycle
+/// without slip.
+pub(crate) const QUICK_FIRST: usize = 2;
+
+/// Harmonics of the quick search. Fewer fail where a safe state needs a
+/// change of the slip over a fifth of the circle (`lambda = 4.5`, `phi =
+/// 0`, path `7,-7`: 4 harmonics prove nothing by cycle 32, 8 prove it at
+/// cycle 2).
+const QUICK_HARMONICS: usize = 8;
+
+/// The quick search starts from the margin rows below this fraction of the
+/// largest (the rest are far from binding), and adds any row its answer
+/// violates, at most [`QUICK_ROUNDS`] times.
+const QUICK_ROWS: f64 = 0.05;
+const QUICK_ROUNDS: usize = 3;
+
+/// How far a run's `W` fell in its last cycle: what decides whether a
+/// search for a safe state is worth its cost.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fall {
+    /// `W` did not fall: no search.
+    None,
+    /// `W` fell by more than the factor `SLOW_FALL` (0.8): a quick search
+    /// only.
+    Fast,
+    /// `W` fell by less than the factor `SLOW_FALL`: a quick or a full
+    /// search.
+    Slow,
+}
 
 /// The search for a safe state, and the best candidate so far, for one run.
 #[derive(Debug, Clone)]
@@ -91,12 +130,16 @@ pub struct SafeStateSearch {
     /// per node and sign `s = +1, -1`, less the allowance for a path that
     /// leaves the chords ([`Self::new`]).
     elastic: Vec<[f64; 2]>,
-    /// The basis of the cone programme's slip change.
-    basis: Basis,
+    /// The basis of the cone programme's slip change, built at the first
+    /// search (most runs never make one).
+    basis: OnceCell<Basis>,
     /// The best safe state found: `g_s`, `|D| g_s` and its margin.
     candidate: Option<(Vec<f64>, Vec<f64>, f64)>,
+    /// The cycle of the next full search.
     next_attempt: usize,
-    /// Searches run (cone programmes solved).
+    /// The cycle of the next quick search.
+    next_quick: usize,
+    /// Searches run (quick and full).
     pub searches: usize,
 }
 
@@ -121,14 +164,9 @@ impl SafeStateSearch {
     pub fn new(contact: &Contact, cycle: &Cycle, steps: usize) -> Self {
         let n = contact.nodes();
         let friction = contact.material().friction();
-        let mut elastic = vec![[f64::INFINITY; 2]; n];
-        for j in 0..steps {
-            let (p, q) = contact.elastic_tractions(cycle.at(2.0 * PI * j as f64 / steps as f64));
-            for (e, (p, q)) in elastic.iter_mut().zip(p.iter().zip(&q)) {
-                e[0] = e[0].min(friction * p - q);
-                e[1] = e[1].min(friction * p + q);
-            }
-        }
+        let mut elastic = contact.least_elastic_margins(
+            (0..steps).map(|j| cycle.at(2.0 * PI * j as f64 / steps as f64)),
+        );
         let dt = 2.0 * PI / steps as f64;
         let allowance =
             std::f64::consts::SQRT_2 * friction / (2.0 * PI) * cycle.load_factor() * dt * dt / 8.0;
@@ -136,30 +174,37 @@ impl SafeStateSearch {
             e[0] -= allowance;
             e[1] -= allowance;
         }
-        let basis = Basis::harmonics(n);
         Self {
             friction,
             coupling: coupling_constant(friction, n),
             elastic,
-            basis,
+            basis: OnceCell::new(),
             candidate: None,
             next_attempt: FIRST_ATTEMPT,
+            next_quick: QUICK_FIRST,
             searches: 0,
         }
     }
 
-    /// After complete cycle `cycle` (with `W` = `dissipation`, and `falling`
-    /// when it fell from the cycle before): a certificate if the contact's
-    /// present slip is proven to shake down.
+    fn basis(&self) -> &Basis {
+        self.basis
+            .get_or_init(|| Basis::harmonics(self.elastic.len()))
+    }
+
+    /// After complete cycle `cycle` (with `W` = `dissipation`, and `fall`
+    /// how far it fell from the cycle before): a certificate if the
+    /// contact's present slip is proven to shake down.
     pub fn check(
         &mut self,
         contact: &Contact,
         ops: &Operators,
         cycle: usize,
         dissipation: f64,
-        falling: bool,
+        fall: Fall,
     ) -> Option<Certificate> {
-        if self.candidate.is_none() && (cycle < self.next_attempt || !falling) {
+        let quick = fall != Fall::None && cycle >= self.next_quick;
+        let full = fall == Fall::Slow && cycle >= self.next_attempt;
+        if self.candidate.is_none() && !quick && !full {
             return None;
         }
         let g = contact.slip();
@@ -169,10 +214,15 @@ impl SafeStateSearch {
         if let Some(c) = self.certify_candidate(g, &relief, cycle, dissipation) {
             return Some(c);
         }
-        if cycle < self.next_attempt || !falling {
+        if !quick && !full {
             return None;
         }
-        self.next_attempt = ((cycle as f64 * ATTEMPT_GROWTH).ceil() as usize).max(cycle + 1);
+        if quick {
+            self.next_quick = 2 * cycle;
+        }
+        if full {
+            self.next_attempt = ((cycle as f64 * ATTEMPT_GROWTH).ceil() as usize).max(cycle + 1);
+        }
         let margins = self.margins(&ops.residual_pressure(g), &relief);
         // The margin of a safe state is at most the mean of the two signs'
         // margins at any node (the shear terms cancel, the pressure gains
@@ -184,9 +234,31 @@ impl SafeStateSearch {
         if best <= PROOF_TOLERANCE {
             return None;
         }
-        self.searches += 1;
-        let z = self.solve(&margins)?;
-        let safe: Vec<f64> = g.iter().zip(&z).map(|(a, b)| a + b).collect();
+        let searches = [
+            (quick, 2 * QUICK_HARMONICS.min(self.basis().size / 2)),
+            (full, self.basis().size),
+        ];
+        for (due, columns) in searches {
+            if !due {
+                continue;
+            }
+            self.searches += 1;
+            let Some(z) = self.solve(&margins, columns) else {
+                continue;
+            };
+            self.consider(ops, g, &relief, &z);
+            if let Some(c) = self.certify_candidate(g, &relief, cycle, dissipation) {
+                return Some(c);
+            }
+        }
+        None
+    }
+
+    /// Keep the safe state `g + z` if it proves more than the one kept:
+    /// its margin recomputed exactly at every node, not taken from the
+    /// solver.
+    fn consider(&mut self, ops: &Operators, g: &[f64], relief: &[f64], z: &[f64]) {
+        let safe: Vec<f64> = g.iter().zip(z).map(|(a, b)| a + b).collect();
         let safe_relief: Vec<f64> = ops.residual_shear(&safe).iter().map(|v| -v).collect();
         let safe_pressure = ops.residual_pressure(&safe);
         let margin = self
@@ -197,14 +269,13 @@ impl SafeStateSearch {
         let keep = match &self.candidate {
             None => true,
             Some((old, old_relief, old_margin)) => {
-                self.value(g, &relief, (&safe, &safe_relief, margin))
-                    > self.value(g, &relief, (old, old_relief, *old_margin))
+                self.value(g, relief, (&safe, &safe_relief, margin))
+                    > self.value(g, relief, (old, old_relief, *old_margin))
             }
         };
         if keep {
             self.candidate = Some((safe, safe_relief, margin));
         }
-        self.certify_candidate(g, &relief, cycle, dissipation)
     }
 
     /// `f p - s q` at the least point of the cycle, per node and sign, for
@@ -261,17 +332,90 @@ impl SafeStateSearch {
         })
     }
 
-    /// The cone programme for a safe state `g_s = g + z`, `z = Z u` in the
-    /// basis ([`Basis`]), `t >= |u| = R`: maximise `delta - f C t` subject
-    /// to, at every node `j` and sign `s`,
-    /// `margin_js + f (H z)_j + s (|D| z)_j >= delta`. Returns `z`, or
-    /// `None` if the solver finds no optimum.
-    fn solve(&self, margins: &[[f64; 2]]) -> Option<Vec<f64>> {
+    /// A safe state `g_s = g + z`, with `z = Z u` over the first `columns`
+    /// columns of the basis ([`Basis`]): the change `z`, or `None` if the
+    /// cone programme finds no optimum. With every column it is solved on
+    /// every margin row; the quick search (fewer columns) starts from the
+    /// rows that can bind ([`QUICK_ROWS`]) and adds those its answer
+    /// violates. Either way the answer is only a candidate: its margin is
+    /// recomputed exactly before it proves anything.
+    fn solve(&self, margins: &[[f64; 2]], columns: usize) -> Option<Vec<f64>> {
         let n = margins.len();
-        let basis = &self.basis;
-        let v = basis.size;
+        let basis = self.basis();
         let f = self.friction;
         let rows = 2 * n;
+        let flat: Vec<f64> = margins.iter().flat_map(|m| m.iter().copied()).collect();
+        // gain[col * rows + 2 j + (0 | 1)]: what a unit of u_col adds to
+        // the margin of node j, sign + or -: f (H z)_j +- (|D| z)_j.
+        let mut gain = Vec::with_capacity(columns * rows);
+        for col in 0..columns {
+            let shear = &basis.relief[col * n..(col + 1) * n];
+            let pressure = &basis.pressure[col * n..(col + 1) * n];
+            for (s, p) in shear.iter().zip(pressure) {
+                gain.push(s + f * p);
+                gain.push(-s + f * p);
+            }
+        }
+        let u = if columns == basis.size {
+            let all: Vec<usize> = (0..rows).collect();
+            self.cone_programme(&gain, columns, &flat, &all, false)?
+        } else {
+            // The quick test of `check` leaves some margin positive.
+            let top = flat.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let mut chosen: Vec<bool> = flat.iter().map(|&m| m < QUICK_ROWS * top).collect();
+            let mut round = 1;
+            loop {
+                let picked: Vec<usize> = (0..rows).filter(|&r| chosen[r]).collect();
+                let x = self.cone_programme(&gain, columns, &flat, &picked, true)?;
+                let delta = x[columns];
+                let mut violated = false;
+                for r in 0..rows {
+                    if chosen[r] {
+                        continue;
+                    }
+                    let value: f64 = flat[r]
+                        + (0..columns)
+                            .map(|col| gain[col * rows + r] * x[col])
+                            .sum::<f64>();
+                    if value < delta {
+                        chosen[r] = true;
+                        violated = true;
+                    }
+                }
+                if !violated || round == QUICK_ROUNDS {
+                    break x;
+                }
+                round += 1;
+            }
+        };
+        let mut z = vec![0.0; n];
+        for (col, &uc) in u[..columns].iter().enumerate() {
+            for (zj, bj) in z.iter_mut().zip(&basis.slip[col * n..(col + 1) * n]) {
+                *zj += uc * bj;
+            }
+        }
+        Some(z)
+    }
+
+    /// The cone programme over `v` basis coefficients `u`, `delta` and
+    /// `t >= |u| = R` on the margin rows `picked` (of `margins`, with
+    /// `gain` as [`Self::solve`] lays it out): maximise `delta - f C t`
+    /// subject to `margin_r + gain_r . u >= delta`. Returns `(u, delta)`,
+    /// or `None` if the solver finds no optimum. A `quick` search skips
+    /// the iterative refinement of the solver's linear systems (its answer
+    /// is checked exactly like any other, and without it takes half the
+    /// time) and gives up as soon as both bounds say it cannot prove
+    /// anything.
+    fn cone_programme(
+        &self,
+        gain: &[f64],
+        v: usize,
+        margins: &[f64],
+        picked: &[usize],
+        quick: bool,
+    ) -> Option<Vec<f64>> {
+        let all = margins.len();
+        let rows = picked.len();
         // Variables: u (v), delta, t. Rows: the margins, t <= cap, then the
         // cone (t, u).
         let total = rows + 1 + (v + 1);
@@ -280,21 +424,18 @@ impl SafeStateSearch {
         let mut nzval = Vec::with_capacity((rows + 1) * v + rows + 2);
         colptr.push(0);
         for col in 0..v {
-            let shear = &basis.relief[col * n..(col + 1) * n];
-            let pressure = &basis.pressure[col * n..(col + 1) * n];
-            for j in 0..n {
-                // -s (|D| z)_j - f (H z)_j + delta <= margin_js
-                rowval.push(2 * j);
-                nzval.push(-shear[j] - f * pressure[j]);
-                rowval.push(2 * j + 1);
-                nzval.push(shear[j] - f * pressure[j]);
+            let column = &gain[col * all..(col + 1) * all];
+            for (i, &r) in picked.iter().enumerate() {
+                // -gain_r u + delta <= margin_r
+                rowval.push(i);
+                nzval.push(-column[r]);
             }
             rowval.push(rows + 2 + col);
             nzval.push(-1.0);
             colptr.push(nzval.len());
         }
-        for r in 0..rows {
-            rowval.push(r);
+        for i in 0..rows {
+            rowval.push(i);
             nzval.push(1.0);
         }
         colptr.push(nzval.len());
@@ -305,9 +446,8 @@ impl SafeStateSearch {
         colptr.push(nzval.len());
         let a = CscMatrix::new(total, v + 2, colptr, rowval, nzval);
         let mut b = vec![0.0; total];
-        for (j, m) in margins.iter().enumerate() {
-            b[2 * j] = m[0];
-            b[2 * j + 1] = m[1];
+        for (bi, &r) in b.iter_mut().zip(picked) {
+            *bi = margins[r];
         }
         b[rows] = DISTANCE_CAP;
         let mut c = vec![0.0; v + 2];
@@ -320,41 +460,33 @@ impl SafeStateSearch {
             .max_iter(100)
             .tol_gap_abs(1e-10)
             .tol_gap_rel(1e-6)
+            .iterative_refinement_enable(!quick)
             .build()
             .ok()?;
         let mut solver = DefaultSolver::new(&p, &c, &a, &b, &cones, settings).ok()?;
         // The optimum itself is not needed: stop once the iterate is nearly
         // feasible and both bounds agree on the sign of `delta - f C t`
         // (whatever comes back is checked exactly).
-        let verdict = Arc::new(AtomicBool::new(false));
-        let flag = Arc::clone(&verdict);
         solver.set_termination_callback(move |info: &DefaultInfo<f64>| {
             if info.res_primal > EARLY_RESIDUAL || info.res_dual > EARLY_RESIDUAL {
                 return false;
             }
-            // A search that proves nothing runs to its optimum: that safe
-            // state is kept and re-checked as the slip moves on.
+            // A full search that proves nothing runs to its optimum: that
+            // safe state is kept and re-checked as the slip moves on. A
+            // quick one stops as soon as both bounds say that it cannot
+            // prove anything: its iterate is as good a candidate to keep
+            // and re-check, and the full search, later, finds the best.
             let proves = info.cost_primal < -EARLY_VALUE && info.cost_dual < -EARLY_VALUE;
-            flag.store(proves, Ordering::Relaxed);
-            proves
+            let hopeless = quick && info.cost_primal > 0.0 && info.cost_dual > 0.0;
+            proves || hopeless
         });
         solver.solve();
         match solver.solution.status {
-            SolverStatus::CallbackTerminated if !verdict.load(Ordering::Relaxed) => None,
             SolverStatus::Solved
             | SolverStatus::AlmostSolved
             | SolverStatus::CallbackTerminated => {
-                let u = &solver.solution.x[..v];
-                if !u.iter().all(|x| x.is_finite()) {
-                    return None;
-                }
-                let mut z = vec![0.0; n];
-                for (col, &uc) in u.iter().enumerate() {
-                    for (zj, bj) in z.iter_mut().zip(&basis.slip[col * n..(col + 1) * n]) {
-                        *zj += uc * bj;
-                    }
-                }
-                Some(z)
+                let x = solver.solution.x[..=v].to_vec();
+                x.iter().all(|x| x.is_finite()).then_some(x)
             }
             _ => None,
         }
@@ -383,12 +515,18 @@ impl Basis {
         let mut slip = Vec::with_capacity(size * n);
         let mut relief = Vec::with_capacity(size * n);
         let mut pressure = Vec::with_capacity(size * n);
+        // sin and cos of k theta_j = 2 pi (k j mod N) / N from one table:
+        // N sines instead of N^2 (a run that never searches builds this
+        // too, once, at its first quick test).
+        let table: Vec<(f64, f64)> = (0..n)
+            .map(|m| (2.0 * PI * m as f64 / n as f64).sin_cos())
+            .collect();
         for k in 1..=modes {
             let kf = k as f64;
             let scale = 1.0 / (n as f64 * kf / 2.0).sqrt();
             for odd in [false, true] {
                 for j in 0..n {
-                    let (sin, cos) = (kf * 2.0 * PI * j as f64 / n as f64).sin_cos();
+                    let (sin, cos) = table[k * j % n];
                     let (value, conjugate) = if odd { (sin, -cos) } else { (cos, sin) };
                     slip.push(scale * value);
                     relief.push(scale * kf * value);

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use serde::Serialize;
 
 use super::driver::{drive, Control, Goal, Silent};
-use super::safe_state::{self, Certificate, SafeStateSearch};
+use super::safe_state::{self, Certificate, Fall, SafeStateSearch};
 use super::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
 use super::verdict::{trend, Trend};
 use super::zones::{slip_zones, zone_changes, SlipZone, ZoneChange};
@@ -897,13 +897,20 @@ impl Stepper {
         if last.slipping_nodes().iter().all(|&s| s) {
             return None;
         }
-        // Only a slow fall is worth a search: W falling fast (by more than
-        // SLOW_FALL a cycle) reaches a cycle without slip, or its level,
-        // sooner than a search pays for itself.
-        let falling = n >= 2
-            && last.dissipation < self.history[n - 2].dissipation
-            && last.dissipation > safe_state::SLOW_FALL * self.history[n - 2].dissipation;
-        if self.safe_state.is_none() && (last.cycle < safe_state::FIRST_ATTEMPT || !falling) {
+        // A search is worth its cost only while W falls: a quick one after
+        // any fall, a full one only after a slow fall (W falling fast, by
+        // more than SLOW_FALL a cycle, reaches a cycle without slip, or
+        // its level, sooner than a full search pays for itself).
+        let (w, before) = (last.dissipation, self.history[n.max(2) - 2].dissipation);
+        let fall = if n < 2 || w >= before {
+            Fall::None
+        } else if w > safe_state::SLOW_FALL * before {
+            Fall::Slow
+        } else {
+            Fall::Fast
+        };
+        if self.safe_state.is_none() && (last.cycle < safe_state::QUICK_FIRST || fall == Fall::None)
+        {
             return None;
         }
         let search = self.safe_state.get_or_insert_with(|| {
@@ -915,7 +922,7 @@ impl Stepper {
         });
         let ops = Arc::clone(self.contact.operators());
         search
-            .check(&self.contact, &ops, last.cycle, last.dissipation, falling)
+            .check(&self.contact, &ops, last.cycle, last.dissipation, fall)
             .map(|c| (SteadyState::Shakedown, Approach::SafeState, Some(c)))
     }
 

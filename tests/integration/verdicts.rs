@@ -92,6 +92,52 @@ fn fig8_sharp_transition_at_half_pi() {
 }
 
 #[test]
+fn a_smooth_safe_state_is_found_by_the_quick_search() {
+    // Fig. 3 below lambda_2: W falls by a factor 0.63 a cycle for fifty
+    // cycles before a cycle passes without slip. A safe state made of the
+    // lowest harmonics exists from the start, and the quick search (cycle
+    // 2) finds it; its proof is checked here from the certificate, and the
+    // state against the run taken out to its cycle without slip.
+    let proven = run(4.5, 0.0, "7,-7");
+    assert_eq!(proven.state, SteadyState::Shakedown, "{proven:?}");
+    assert_eq!(proven.approach, Approach::SafeState, "{proven:?}");
+    let c = proven
+        .certificate
+        .expect("a safe-state verdict carries its proof");
+    assert!(c.margin - c.coupling * c.distance > 1e-9, "{c:?}");
+    assert!(
+        (c.slip_bound - c.distance * c.distance / (2.0 * (c.margin - c.coupling * c.distance)))
+            .abs()
+            <= 1e-12 * c.slip_bound,
+        "{c:?}"
+    );
+    assert!(proven.cycles <= 4, "{proven:?}");
+    let mut s = stepper(
+        4.5,
+        0.0,
+        "7,-7",
+        Convergence {
+            safe_state: false,
+            ..Convergence::default()
+        },
+    );
+    let run_out = s.run_to_steady().unwrap();
+    assert_eq!(run_out.state, SteadyState::Shakedown, "{run_out:?}");
+    assert_eq!(run_out.approach, Approach::NoSlipCycle, "{run_out:?}");
+    assert!(run_out.cycles > 40, "{run_out:?}");
+    // The slip still to come is within the bound the certificate states.
+    let to_come: f64 = s.history()[c.cycle..]
+        .iter()
+        .flat_map(|r| r.forward.iter().chain(&r.backward))
+        .sum();
+    assert!(
+        to_come > 0.0 && to_come <= c.slip_bound,
+        "{to_come} > {}",
+        c.slip_bound
+    );
+}
+
+#[test]
 fn the_cap_is_not_converged_with_a_trend() {
     // An asymptotic shakedown stopped long before its cycle without slip.
     let s = stepper(
