@@ -377,24 +377,20 @@ impl Contact {
 
     /// Tractions of eqs. (1)-(2) alone: the loads without any slip.
     pub fn elastic_tractions(&self, load: LoadPoint) -> (Vec<f64>, Vec<f64>) {
-        let n = self.sin.len();
-        let (mut p, mut q) = (vec![0.0; n], vec![0.0; n]);
-        self.elastic_tractions_into(load, &mut p, &mut q);
-        (p, q)
-    }
-
-    /// [`Self::elastic_tractions`] into `pressure` and `shear` (one value
-    /// per node each), for callers that visit many load points.
-    pub fn elastic_tractions_into(&self, load: LoadPoint, pressure: &mut [f64], shear: &mut [f64]) {
         let loads = self.material.to_loads(load);
         let (alpha, beta) = (self.material.alpha(), self.material.beta());
         let two_pi = 2.0 * PI;
-        for (p, s) in pressure.iter_mut().zip(&self.sin) {
-            *p = 1.0 - beta * loads.radial * s / two_pi;
-        }
-        for (q, c) in shear.iter_mut().zip(&self.cos) {
-            *q = -loads.torque / two_pi - alpha * loads.radial * c / two_pi;
-        }
+        let p = self
+            .sin
+            .iter()
+            .map(|s| 1.0 - beta * loads.radial * s / two_pi)
+            .collect();
+        let q = self
+            .cos
+            .iter()
+            .map(|c| -loads.torque / two_pi - alpha * loads.radial * c / two_pi)
+            .collect();
+        (p, q)
     }
 
     /// The least of `f p - q` and of `f p + q` (index 0 and 1) at each

@@ -901,13 +901,11 @@ impl Stepper {
         // any fall, a full one only after a slow fall (W falling fast, by
         // more than SLOW_FALL a cycle, reaches a cycle without slip, or
         // its level, sooner than a full search pays for itself).
-        let (w, before) = (last.dissipation, self.history[n.max(2) - 2].dissipation);
-        let fall = if n < 2 || w >= before {
-            Fall::None
-        } else if w > safe_state::SLOW_FALL * before {
-            Fall::Slow
-        } else {
-            Fall::Fast
+        let w = last.dissipation;
+        let fall = match n.checked_sub(2).map(|k| self.history[k].dissipation) {
+            Some(before) if w < before && w > safe_state::SLOW_FALL * before => Fall::Slow,
+            Some(before) if w < before => Fall::Fast,
+            _ => Fall::None,
         };
         if self.safe_state.is_none() && (last.cycle < safe_state::QUICK_FIRST || fall == Fall::None)
         {
