@@ -481,10 +481,22 @@ impl SafeStateSearch {
             proves || hopeless
         });
         solver.solve();
+        // Whatever the solver stopped at is only a candidate (checked
+        // exactly) or, in the quick search's first rounds, a guide to the
+        // rows that bind: so the last iterate of a search that ran out of
+        // progress or iterations serves too. (On the few rows a quick search
+        // starts from, the programme is nearly unbounded: the iterate runs
+        // to the distance cap and Clarabel reports insufficient progress.
+        // Refused, it left runs such as lambda = 3.25, path 7,-7 of the
+        // Fig. 3 map unproven until cycle 37, where the same search on the
+        // rows that iterate violates proves it at cycle 4.)
         match solver.solution.status {
             SolverStatus::Solved
             | SolverStatus::AlmostSolved
-            | SolverStatus::CallbackTerminated => {
+            | SolverStatus::CallbackTerminated
+            | SolverStatus::InsufficientProgress
+            | SolverStatus::MaxIterations
+            | SolverStatus::MaxTime => {
                 let x = solver.solution.x[..=v].to_vec();
                 x.iter().all(|x| x.is_finite()).then_some(x)
             }
