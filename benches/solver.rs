@@ -201,18 +201,11 @@ fn asymptotic_shakedown(cr: &mut Criterion) {
 }
 
 fn fig3(cr: &mut Criterion) {
-    let spec = SweepSpec::new(
-        Material::paper(),
-        Discretisation::default(),
-        StepOptions::default(),
-        LoadPoint::new(PI, 0.75 * PI),
-        0.625,
-        shakedown::analysis::sweep::SweepLists {
-            load_factors: (0..=90).map(|i| 3.0 + 0.05 * i as f64).collect(),
-            phases: vec![0.0],
-            initials: Initial::paper_set(),
-        },
-    )
+    let spec = SweepSpec::paper(shakedown::analysis::sweep::SweepLists {
+        load_factors: (0..=90).map(|i| 3.0 + 0.05 * i as f64).collect(),
+        phases: vec![0.0],
+        initials: Initial::paper_set(),
+    })
     .unwrap();
     let jobs = spec.jobs();
     let mut group = cr.benchmark_group("sweep");

@@ -197,6 +197,42 @@ impl SweepSpec {
         )
     }
 
+    /// A sweep of `lists` on the paper's model: its material, the default
+    /// discretisation and solver options, and the centre and slope of
+    /// [`Cycle::paper`] (the Fig. 3 map and the `fig6` sweep are such).
+    ///
+    /// # Errors
+    ///
+    /// As [`SweepSpec::new`]: a `lambda` or `phi` of `lists` for which the
+    /// cycle is invalid.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use shakedown::analysis::sweep::{SweepLists, SweepSpec};
+    /// use shakedown::Initial;
+    ///
+    /// let spec = SweepSpec::paper(SweepLists {
+    ///     load_factors: vec![3.0, 3.05],
+    ///     phases: vec![0.0],
+    ///     initials: Initial::paper_set(),
+    /// })
+    /// .unwrap();
+    /// // lambda outermost, then phi, then the 25 initial paths.
+    /// assert_eq!(spec.jobs().len(), 2 * 25);
+    /// ```
+    pub fn paper(lists: SweepLists) -> Result<SweepSpec, ParamError> {
+        let cycle = Cycle::paper(0.0, 0.0)?;
+        Self::new(
+            Material::paper(),
+            Discretisation::default(),
+            StepOptions::default(),
+            cycle.center(),
+            cycle.slope(),
+            lists,
+        )
+    }
+
     /// A sweep of `lists` with the cycle centre `center` and slope `slope`.
     ///
     /// # Errors

@@ -228,18 +228,11 @@ fn fig8_ratchetting_rotates_and_shakedown_does_not() {
 }
 
 fn fig3_sweep(load_factors: Vec<f64>) -> Vec<shakedown::analysis::sweep::Row> {
-    let spec = SweepSpec::new(
-        Material::paper(),
-        Discretisation::default(),
-        StepOptions::default(),
-        LoadPoint::new(PI, 0.75 * PI),
-        0.625,
-        shakedown::analysis::sweep::SweepLists {
-            load_factors,
-            phases: vec![0.0],
-            initials: Initial::paper_set(),
-        },
-    )
+    let spec = SweepSpec::paper(shakedown::analysis::sweep::SweepLists {
+        load_factors,
+        phases: vec![0.0],
+        initials: Initial::paper_set(),
+    })
     .unwrap();
     spec.run(&spec.jobs(), &|_| {}, &AtomicBool::new(false))
 }

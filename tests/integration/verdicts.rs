@@ -11,8 +11,8 @@ use std::f64::consts::PI;
 use rayon::prelude::*;
 use shakedown::stepping::steady::assess;
 use shakedown::{
-    Approach, Convergence, Cycle, CycleRecord, Discretisation, Initial, LoadPoint, Material,
-    SteadyState, StepOptions, Stepper, Summary,
+    Approach, Convergence, Cycle, CycleRecord, Discretisation, Initial, Material, SteadyState,
+    StepOptions, Stepper, Summary,
 };
 
 /// Runs taken far beyond the default verdict.
@@ -32,6 +32,19 @@ fn stepper(load_factor: f64, phase: f64, initial: &str, convergence: Convergence
             convergence,
             ..StepOptions::default()
         },
+    )
+}
+
+/// The rows of a sweep on the paper's model, run as `shakedown sweep` runs
+/// them (each transient once, shared by the load factors).
+fn paper_sweep(
+    lists: shakedown::analysis::sweep::SweepLists,
+) -> Vec<shakedown::analysis::sweep::Row> {
+    let spec = shakedown::analysis::sweep::SweepSpec::paper(lists).unwrap();
+    spec.run(
+        &spec.jobs(),
+        &|_| {},
+        &std::sync::atomic::AtomicBool::new(false),
     )
 }
 
@@ -147,22 +160,12 @@ fn a_quick_search_goes_on_from_an_unsettled_first_round() {
     // violates, and the next round proves the run at once; refusing it
     // left the run unproven until cycle 37 (a full search), while `run`
     // proves it at cycle 4.
-    use shakedown::analysis::sweep::{SweepLists, SweepSpec};
-    use std::sync::atomic::AtomicBool;
-    let spec = SweepSpec::new(
-        Material::paper(),
-        Discretisation::default(),
-        StepOptions::default(),
-        LoadPoint::new(PI, 0.75 * PI),
-        0.625,
-        SweepLists {
-            load_factors: vec![3.25],
-            phases: vec![0.0],
-            initials: vec![Initial::parse("7,-7").unwrap()],
-        },
-    )
-    .unwrap();
-    let rows = spec.run(&spec.jobs(), &|_| {}, &AtomicBool::new(false));
+    use shakedown::analysis::sweep::SweepLists;
+    let rows = paper_sweep(SweepLists {
+        load_factors: vec![3.25],
+        phases: vec![0.0],
+        initials: vec![Initial::parse("7,-7").unwrap()],
+    });
     let swept = rows[0].outcome.as_ref().unwrap();
     let alone = run(3.25, 0.0, "7,-7");
     for s in [swept, &alone] {
@@ -275,25 +278,12 @@ fn fig6_boundary_runs_agree_with_runs_taken_to_2000_cycles() {
 #[test]
 fn fig6_ratchetting_forgets_the_transient() {
     // Wherever fig6 ratchets, all 25 transients ratchet, with one W.
-    use shakedown::analysis::sweep::{SweepLists, SweepSpec};
-    let spec = SweepSpec::new(
-        Material::paper(),
-        Discretisation::default(),
-        StepOptions::default(),
-        LoadPoint::new(PI, 0.75 * PI),
-        0.625,
-        SweepLists {
-            load_factors: vec![5.1],
-            phases: [24.0, 27.0, 30.0].map(|k| k * PI / 48.0).to_vec(),
-            initials: Initial::paper_set(),
-        },
-    )
-    .unwrap();
-    let rows = spec.run(
-        &spec.jobs(),
-        &|_| {},
-        &std::sync::atomic::AtomicBool::new(false),
-    );
+    use shakedown::analysis::sweep::SweepLists;
+    let rows = paper_sweep(SweepLists {
+        load_factors: vec![5.1],
+        phases: [24.0, 27.0, 30.0].map(|k| k * PI / 48.0).to_vec(),
+        initials: Initial::paper_set(),
+    });
     for column in rows.chunks(25) {
         let phase = column[0].job.phase;
         let w: Vec<f64> = column
