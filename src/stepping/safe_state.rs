@@ -488,15 +488,15 @@ impl SafeStateSearch {
         // starts from, the programme is nearly unbounded: the iterate runs
         // to the distance cap and Clarabel reports insufficient progress.
         // Refused, it left runs such as lambda = 3.25, path 7,-7 of the
-        // Fig. 3 map unproven until cycle 37, where the same search on the
-        // rows that iterate violates proves it at cycle 4.)
+        // Fig. 3 map unproven until cycle 37; the next round, on the rows
+        // that iterate violates, proves it after cycle 2.) No time limit is
+        // set, so there is no `MaxTime`.
         match solver.solution.status {
             SolverStatus::Solved
             | SolverStatus::AlmostSolved
             | SolverStatus::CallbackTerminated
             | SolverStatus::InsufficientProgress
-            | SolverStatus::MaxIterations
-            | SolverStatus::MaxTime => {
+            | SolverStatus::MaxIterations => {
                 let x = solver.solution.x[..=v].to_vec();
                 x.iter().all(|x| x.is_finite()).then_some(x)
             }
