@@ -623,7 +623,7 @@ impl Contact {
         let e = &mut w.engine;
         let (ux, uy) = e.axis(axis);
         let before = w.inverse.rebuilds;
-        if !w.inverse.update_to(&self.ops, f, &e.dirs) {
+        if !w.inverse.update_to(&self.ops, f, &e.dirs, &e.set) {
             return false;
         }
         self.increment.factorisations += w.inverse.rebuilds - before;
