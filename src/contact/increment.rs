@@ -113,6 +113,10 @@ pub struct Increment {
     /// The increment (or its rest) was solved by the finite-step active-set
     /// iteration because the rate problem did not settle.
     pub fallback: bool,
+    /// Node lists of earlier increments' events, emptied, for the next
+    /// events to reuse: an event then allocates nothing once a run is under
+    /// way.
+    spare: Vec<Vec<usize>>,
 }
 
 impl Increment {
@@ -131,7 +135,15 @@ impl Increment {
             rate_solves: 0,
             factorisations: 0,
             fallback: false,
+            spare: Vec::new(),
         }
+    }
+
+    /// An empty node list, reusing one of an earlier event if there is one.
+    /// A new one has room for every node, so that no list grows later.
+    fn node_list(&mut self) -> Vec<usize> {
+        let n = self.forward.len();
+        self.spare.pop().unwrap_or_else(|| Vec::with_capacity(n))
     }
 
     /// Add slip `dg` of node `j` to `forward` / `backward`.
@@ -151,7 +163,11 @@ impl Increment {
         self.reached = 0.0;
         self.dissipation = 0.0;
         self.segments = 0;
-        self.events.clear();
+        for event in self.events.drain(..) {
+            let mut nodes = event.nodes;
+            nodes.clear();
+            self.spare.push(nodes);
+        }
         if self.slipped {
             self.forward.fill(0.0);
             self.backward.fill(0.0);
@@ -1001,7 +1017,8 @@ impl Contact {
             let load = self.load;
             // One pass: a node that changed entered slip if it stuck
             // before, and stuck (or turned) if it slipped.
-            let (mut entered, mut stuck) = (Vec::new(), Vec::new());
+            let mut entered = self.increment.node_list();
+            let mut stuck = self.increment.node_list();
             for (j, (b, d)) in e.before.iter().zip(&e.dirs).enumerate() {
                 if b != d {
                     if b.is_slipping() {
@@ -1022,6 +1039,8 @@ impl Contact {
                         load,
                         nodes,
                     });
+                } else {
+                    self.increment.spare.push(nodes);
                 }
             }
         }

@@ -57,6 +57,16 @@ impl DenseLu {
         }
     }
 
+    /// Room for matrices up to `capacity x capacity`, allocated at the
+    /// first need: a contact that never needs this solver (most runs of
+    /// a sweep, each on its own clone) does not pay for its `N x N`
+    /// buffers.
+    pub(super) fn reserve(&mut self, capacity: usize) {
+        if self.tmp.len() < capacity {
+            *self = DenseLu::new(capacity);
+        }
+    }
+
     /// Factorise the `dim x dim` matrix already written into `self.lu`.
     pub(super) fn factorise(&mut self, dim: usize) {
         self.dim = dim;
@@ -199,10 +209,10 @@ impl ReducedSolver {
             nodes,
             base: Vec::with_capacity(nodes),
             base_pos: vec![NONE; nodes],
-            base_lu: DenseLu::new(nodes),
+            base_lu: DenseLu::new(0),
             column_solves: vec![Vec::new(); nodes],
             unit_solves: vec![Vec::new(); nodes],
-            cap_lu: DenseLu::new(MAX_RANK),
+            cap_lu: DenseLu::new(0),
             added: Vec::with_capacity(nodes),
             added_pos: vec![NONE; nodes],
             items: Vec::with_capacity(MAX_RANK),
@@ -239,6 +249,7 @@ impl ReducedSolver {
         for (pos, &(node, _)) in set.iter().enumerate() {
             self.base_pos[node] = pos;
         }
+        self.base_lu.reserve(self.nodes);
         for (b, &(col, _)) in set.iter().enumerate() {
             let hcol = ops.hilbert_col(col);
             let dcol = ops.abs_derivative_col(col);
@@ -471,6 +482,7 @@ impl ReducedSolver {
             debug_assert!(row.is_empty() || row.len() == u);
         }
         // C = I + Z^T Y, column j from item j's Y column.
+        self.cap_lu.reserve(MAX_RANK);
         let c = &mut self.cap_lu.lu;
         for j in 0..m {
             for i in 0..m {

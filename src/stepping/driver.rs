@@ -100,6 +100,8 @@ pub fn drive(
 ) -> Result<Driven, StepError> {
     let start_cycles = stepper.history().len();
     let mut done = 0usize;
+    // One report for the whole drive: its buffers are reused step to step.
+    let mut report = StepReport::default();
     loop {
         let reached = stepper.is_finished()
             || match goal {
@@ -111,7 +113,7 @@ pub fn drive(
         if reached {
             return Ok(Driven::Reached);
         }
-        let report = stepper.step()?;
+        stepper.step_into(&mut report)?;
         // A step that paused at an event inside its increment is not a
         // whole increment.
         done += usize::from(report.partial.is_none());

@@ -291,6 +291,9 @@ pub struct Stepper {
     /// The search for a safe state that proves shakedown early (set up at
     /// the first cycle that needs it).
     safe_state: Option<Box<SafeStateSearch>>,
+    /// Node lists of the events of reports handed back to
+    /// [`Stepper::step_into`], emptied, for the next events to reuse.
+    spare_nodes: Vec<Vec<usize>>,
 }
 
 /// Set up the shared pieces of a run once.
@@ -398,6 +401,7 @@ impl Stepper {
             zone_dirs: contact_dirs,
             zone_events: true,
             resume: None,
+            spare_nodes: Vec::new(),
             safe_state: None,
         }
     }
@@ -613,21 +617,59 @@ impl Stepper {
     /// [`Initial::Optimal`] that was not resolved.
     pub fn step(&mut self) -> Result<StepReport, StepError> {
         let mut report = StepReport::default();
+        self.step_into(&mut report).map(|()| report)
+    }
+
+    /// [`Stepper::step`] into `report`, which is cleared first: a loop that
+    /// hands the same report back each time (as [`drive`] does) allocates
+    /// nothing per step once the run is under way, its buffers and the
+    /// events' node lists being reused.
+    ///
+    /// # Errors
+    ///
+    /// As [`Stepper::step`].
+    ///
+    /// [`drive`]: super::drive
+    pub fn step_into(&mut self, report: &mut StepReport) -> Result<(), StepError> {
+        self.recycle(report);
+        self.step_body(report)
+    }
+
+    /// Empty `report`, keeping its buffers and its events' node lists.
+    fn recycle(&mut self, report: &mut StepReport) {
+        for event in report.events.drain(..) {
+            if let Event::AdvancingStick { mut nodes, .. } | Event::SlipEntry { mut nodes, .. } =
+                event
+            {
+                nodes.clear();
+                self.spare_nodes.push(nodes);
+            }
+        }
+        let mut newly_stuck = std::mem::take(&mut report.newly_stuck);
+        newly_stuck.clear();
+        *report = StepReport {
+            events: std::mem::take(&mut report.events),
+            newly_stuck,
+            ..StepReport::default()
+        };
+    }
+
+    fn step_body(&mut self, report: &mut StepReport) -> Result<(), StepError> {
         if let Some(e) = &self.unresolved {
             return Err(e.clone());
         }
         if self.is_finished() {
-            return Ok(report);
+            return Ok(());
         }
         let events_before = report.events.len();
         let start = self.resume.take().unwrap_or(0.0);
-        match self.advance(start, 1.0, 0, &mut report) {
+        match self.advance(start, 1.0, 0, report) {
             Ok(Progress::Done) => {}
             Ok(Progress::Paused(at)) => {
                 self.resume = Some(at);
                 report.partial = Some(at);
-                self.after_increment(events_before, &mut report);
-                return Ok(report);
+                self.after_increment(events_before, report);
+                return Ok(());
             }
             Err(ContactError::NotSettled { load, .. }) => {
                 return Err(StepError::NotSettled {
@@ -638,18 +680,18 @@ impl Stepper {
             }
             // Gross slip and separation are outcomes, not failures.
             Ok(Progress::Ended(ContactEnd::GrossSlip { load }, at)) => {
-                self.end(Terminal::GrossSlip { load }, at, &mut report);
-                return Ok(report);
+                self.end(Terminal::GrossSlip { load }, at, report);
+                return Ok(());
             }
             Ok(Progress::Ended(ContactEnd::Separation { load, theta, .. }, at)) => {
-                self.end(Terminal::Separation { load, theta }, at, &mut report);
-                return Ok(report);
+                self.end(Terminal::Separation { load, theta }, at, report);
+                return Ok(());
             }
         }
         self.increments += 1;
-        self.after_increment(events_before, &mut report);
-        self.move_on(&mut report);
-        Ok(report)
+        self.after_increment(events_before, report);
+        self.move_on(report);
+        Ok(())
     }
 
     /// What a step reports once the contact has got where it goes: the
@@ -724,7 +766,13 @@ impl Stepper {
         report.slip_set_changed |= inc.set_changed;
         for ev in &inc.events {
             let time = self.time_at(s0 + ev.fraction * (s1 - s0));
-            let nodes = ev.nodes.clone();
+            // A new list has room for every node, so that no list grows.
+            let n = self.contact.nodes();
+            let mut nodes = self
+                .spare_nodes
+                .pop()
+                .unwrap_or_else(|| Vec::with_capacity(n));
+            nodes.extend_from_slice(&ev.nodes);
             report.events.push(match ev.kind {
                 ContactEventKind::AdvancingStick => {
                     report.newly_stuck.extend_from_slice(&nodes);

@@ -89,3 +89,41 @@ fn increments_without_events_allocate_nothing() {
     };
     assert_eq!(count(c, next, 100), 0);
 }
+
+/// A batch run driven with one report handed back each step (as `drive`
+/// does) allocates nothing in the steps of a cycle whose slip sets it has
+/// met before: the events' node lists and the report's buffers are reused.
+#[test]
+fn steps_of_a_repeating_cycle_allocate_nothing() {
+    use shakedown::{Cycle, Initial, StepOptions, StepReport, Stepper};
+    let mut s = Stepper::new(
+        Material::paper(),
+        Discretisation::new(64, 200).unwrap(),
+        &Initial::Direct,
+        Cycle::paper(5.5, 0.5 * std::f64::consts::PI).unwrap(),
+        StepOptions::default(),
+    );
+    // As a batch run: the slip-zone topology of `SlipSetChanged` (for a
+    // viewer) is a pass that builds new zone lists.
+    s.set_zone_events(false);
+    let mut report = StepReport::default();
+    // Some cycles first: the slip sets of the cycle are then all known.
+    while s.history().len() < 6 {
+        s.step_into(&mut report).unwrap();
+    }
+    let cycles = s.history().len();
+    let (mut steps, mut events, mut allocated) = (0, 0, 0);
+    while s.history().len() == cycles {
+        let before = allocations();
+        s.step_into(&mut report).unwrap();
+        // The step that closes the cycle records it (one allocation per
+        // cycle, not per step).
+        if s.history().len() == cycles {
+            allocated += allocations() - before;
+            steps += 1;
+            events += report.events.len();
+        }
+    }
+    assert!(steps > 100 && events > 10, "{steps} steps, {events} events");
+    assert_eq!(allocated, 0, "over {steps} steps with {events} events");
+}
