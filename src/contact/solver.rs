@@ -411,16 +411,27 @@ impl Contact {
         let minus: Vec<f64> = (self.cos.iter().zip(&self.sin))
             .map(|(c, s)| (-alpha * c - f * beta * s) / two_pi)
             .collect();
-        let mut least = vec![[f64::INFINITY; 2]; self.sin.len()];
+        // One contiguous array per sign, so that the pass over the nodes
+        // for each point vectorises: as `[f64; 2]` pairs it did not, and a
+        // safe-state search's set-up took twice the instructions.
+        let n = self.sin.len();
+        let (mut forward, mut backward) = (vec![f64::INFINITY; n], vec![f64::INFINITY; n]);
         for point in points {
             let loads = self.material.to_loads(point);
             let (radial, torque) = (loads.radial, loads.torque / two_pi);
-            for (m, (a, b)) in least.iter_mut().zip(plus.iter().zip(&minus)) {
-                m[0] = m[0].min(f + torque + radial * a);
-                m[1] = m[1].min(f - torque + radial * b);
+            let (lift, drop) = (f + torque, f - torque);
+            for (m, a) in forward.iter_mut().zip(&plus) {
+                *m = m.min(lift + radial * a);
+            }
+            for (m, b) in backward.iter_mut().zip(&minus) {
+                *m = m.min(drop + radial * b);
             }
         }
-        least
+        forward
+            .into_iter()
+            .zip(backward)
+            .map(|(a, b)| [a, b])
+            .collect()
     }
 
     /// Residual pressure `H g`.
