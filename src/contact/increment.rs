@@ -224,6 +224,11 @@ pub(crate) struct Engine {
     margins: Vec<f64>,
     /// Slip rates along the current segment at every node (0 off the set).
     rg: Vec<f64>,
+    /// The coefficients `(a1, a2)` that `rg` was combined for from the
+    /// present `gx` and `gy`; `None` once either changes. A rate problem
+    /// begins, and the segment after it begins, with the combination just
+    /// made: two passes over the nodes per event that need not be made.
+    rg_for: Option<(f64, f64)>,
     /// Rate-problem scratch.
     trial: Vec<SlipDirection>,
     candidates: Vec<usize>,
@@ -263,6 +268,7 @@ impl Engine {
     /// The responses to the direction of `axis` from its slip rates in
     /// `full` (zero off the set): `H g'` and `-|D| g'` by FFT, and totals.
     fn fill_axis(&mut self, ops: &Operators, fft: &mut FftScratch, axis: usize) {
+        self.rg_for = None;
         ops.apply_both(&self.full, &mut self.hbuf, &mut self.dbuf, fft);
         let (g, hp, hq) = if axis == 0 {
             (&mut self.gx, &mut self.hpx, &mut self.hqx)
@@ -282,6 +288,7 @@ impl Engine {
     /// `full` and the kept `H g'` then `-|D| g'` of a cache entry: the
     /// numbers [`Self::fill_axis`] would compute, without the FFT.
     fn restore_axis(&mut self, axis: usize, kept: &[f64]) {
+        self.rg_for = None;
         let n = self.full.len();
         let (g, hp, hq) = if axis == 0 {
             (&mut self.gx, &mut self.hpx, &mut self.hqx)
@@ -323,6 +330,7 @@ impl Engine {
             off: z(),
             margins: z(),
             rg: z(),
+            rg_for: None,
             trial: vec![SlipDirection::Stick; n],
             candidates: Vec::with_capacity(n),
             before: vec![SlipDirection::Stick; n],
@@ -578,6 +586,7 @@ impl Contact {
             e.off[j] = f64::INFINITY;
         }
         if e.set.is_empty() {
+            e.rg_for = None;
             for v in [
                 &mut e.gx, &mut e.gy, &mut e.hpx, &mut e.hpy, &mut e.hqx, &mut e.hqy,
             ] {
@@ -709,7 +718,11 @@ impl Contact {
     #[inline]
     fn combine(&self, w: &mut Workspace, dx: f64, dy: f64) {
         let e = &mut w.engine;
+        if e.rg_for == Some((dx, dy)) {
+            return;
+        }
         kernels::combine(&mut e.rg, dx, &e.gx, dy, &e.gy);
+        e.rg_for = Some((dx, dy));
     }
 
     /// The first event in `(0, remaining]` of the segment with the cached
