@@ -101,6 +101,9 @@ pub(crate) struct ResponseCache {
     clock: u64,
     entries: Vec<Entry>,
     by_hash: HashMap<u64, usize, BuildHasherDefault<Prehashed>>,
+    /// The codes of the set last looked up or inserted ([`code`]): made
+    /// once, then hashed and compared as they are.
+    codes: Vec<u32>,
     /// Lookups and hits, for tests and statistics.
     pub(crate) lookups: u64,
     pub(crate) hits: u64,
@@ -150,6 +153,7 @@ impl ResponseCache {
             clock: 0,
             entries: Vec::new(),
             by_hash: HashMap::default(),
+            codes: Vec::new(),
             lookups: 0,
             hits: 0,
         }
@@ -160,9 +164,10 @@ impl ResponseCache {
     pub(crate) fn lookup(&mut self, set: &[(usize, f64)]) -> Option<Hit<'_>> {
         self.lookups += 1;
         self.clock += 1;
-        let slot = *self.by_hash.get(&hash(set.iter().map(code)))?;
+        let h = self.encode(set);
+        let slot = *self.by_hash.get(&h)?;
         let e = &mut self.entries[slot];
-        if !same(&e.key, set) {
+        if e.key != self.codes {
             return None;
         }
         self.hits += 1;
@@ -176,6 +181,13 @@ impl ResponseCache {
             second_responses: (e.have2 && !e.responses[1].is_empty())
                 .then_some(e.responses[1].as_slice()),
         })
+    }
+
+    /// The codes of `set` into `codes`, and their hash.
+    fn encode(&mut self, set: &[(usize, f64)]) -> u64 {
+        self.codes.clear();
+        self.codes.extend(set.iter().map(code));
+        hash(self.codes.iter().copied())
     }
 
     /// Keep the rates `first` (per unit `u1`, on the set in node order) of
@@ -192,15 +204,15 @@ impl ResponseCache {
             return None;
         }
         self.clock += 1;
+        let h = self.encode(set);
         let entry = Entry {
-            key: set.iter().map(code).collect(),
+            key: self.codes.clone(),
             u1,
             rates: [first.collect(), Vec::new()],
             responses: [kept(responses), Vec::new()],
             have2: false,
             last_used: self.clock,
         };
-        let h = hash(set.iter().map(code));
         if let Some(&slot) = self.by_hash.get(&h) {
             // A collision or a set solved again: replace it.
             self.bytes -= self.entries[slot].bytes();
