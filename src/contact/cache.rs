@@ -141,10 +141,6 @@ fn kept((pressure, shear): (&[f64], &[f64])) -> Vec<f64> {
     v
 }
 
-fn same(key: &[u32], set: &[(usize, f64)]) -> bool {
-    key.len() == set.len() && key.iter().zip(set).all(|(&c, e)| c == code(e))
-}
-
 impl ResponseCache {
     pub(crate) fn new(budget: usize) -> Self {
         Self {
@@ -239,10 +235,11 @@ impl ResponseCache {
         second: impl Iterator<Item = f64>,
         responses: (&[f64], &[f64]),
     ) {
+        self.encode(set);
         let Some(e) = self.entries.get_mut(slot) else {
             return;
         };
-        if e.have2 || !same(&e.key, set) {
+        if e.have2 || e.key != self.codes {
             return;
         }
         let before = e.bytes();
