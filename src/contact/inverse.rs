@@ -1,277 +1,383 @@
-//! The inverse of the reduced matrix `M_SS = (-|D| - f diag(s) H)_SS`, kept
-//! up to date as the slip set changes one node at a time.
+//! The solutions of `M_SS x = b_S`, `M_SS = (-|D| - f diag(s) H)_SS`, for
+//! the two unit load directions, kept up to date as the slip set `S`
+//! changes one node at a time.
 //!
 //! The exact increment ([`super::increment`]) changes the slip set at its
-//! events, nearly always by one node: a node enters slip, a slipping node
-//! sticks (advancing stick), or a node reverses its direction. Each such
-//! change of `M_SS` is a bordering or a rank-one change, so its inverse
-//! follows in `O(k^2)` (`k` the size of the set) instead of the `O(k^3)` of
-//! a new factorisation:
+//! events, nearly always by one node, and needs the new set's slip rates
+//! per unit load at once: `M_SS^-1 b_x` and `M_SS^-1 b_y`. A new
+//! factorisation per event would cost `O(k^3)` (`k` the size of the set);
+//! instead one LU is kept for a *base* matrix `A` and follows the set:
 //!
-//! * **a node `a` enters** with sign `s_a`: the bordered inverse, with
-//!   `v = M^-1 M_Sa`, `w = M_aS M^-1` and the Schur complement
-//!   `sigma = M_aa - M_aS v`;
-//! * **a node leaves** the set (its slip is pinned): for `B = M^-1`, the
-//!   inverse of `M` without row and column `r` is `B - B_:r B_r: / B_rr`;
-//! * **a node flips** its direction: its row gains `2 f s H_r,S`, a
-//!   Sherman–Morrison update.
+//! * **a node `a` enters** with sign `s_a`: `A` is bordered by its column
+//!   `c = M_Sa` and row `r = M_aS`. With `P A = L U`, the bordered LU has
+//!   the new row `l = U^-T r` of `L`, the new column `u = L^-1 P c` of `U`
+//!   and the pivot `sigma = M_aa - l . u` (the Schur complement), both
+//!   triangular solves in one pass over the factors ([`border_pass`]); one
+//!   more pass gives `v = A^-1 c = U^-1 u`, which moves the kept solutions:
+//!   the entering node's rate is `xi = (b_a - r . x) / sigma` and the
+//!   others move by `-xi v`. Three half passes over a triangle, `1.5 k^2`
+//!   multiply-adds, where an explicit inverse needs `3 k^2` (two products
+//!   with it and a rank-one update of it).
+//! * **a node of `A` sticks**: it stays in `A`, *pinned*. Its slip is held
+//!   at 0 and its row is dropped, by a multiplier on its row;
+//! * **a node of `A` reverses**: its row in the current matrix is that of
+//!   `A` plus `delta = 2 f s_a H_a,:` (and its right-hand side changes).
 //!
-//! Each of these changes is a rank-one term `u z^T` added to the inverse.
-//! The terms are not added at once: the inverse is kept as
-//! `B = B0 + U Z^T` with the last few terms pending in `U` and `Z`, so that
-//! a node's leaving costs `O(k t)` (its row and column of `B`, `t` terms
-//! pending) instead of a pass over `B`, an entry costs one pass (its two
-//! products `B c`, `r^T B` read each column of `B0` once, in
-//! [`fused_products`]) instead of three, and the
-//! pending terms are added to `B0` together, as one matrix product, when
-//! there are `k / 4` of them (at most [`MAX_TERMS`]).
+//! Pinned and reversed nodes (few: at `N = 1024` one change in twenty is a
+//! sticking or a reversal) are a low-rank correction of `A` solved through
+//! a small capacitance system (the Woodbury identity), with the columns
+//! `A^-1 e_q` of those nodes, one `O(k^2)` solve each when the node changes
+//! and an `O(k)` update at each later bordering. The current set's
+//! solution is `x = x_A + sum_q z_q A^-1 e_q` with `x_A = A^-1 b` kept
+//! through the borderings and `z` from the capacitance system.
 //!
-//! The inverse is rebuilt from a pivoted LU (faer) when the set changes by
-//! many nodes at once, when an update meets a small pivot, and after a
-//! number of updates proportional to `k`, so the round-off that updates
-//! accumulate stays bounded and the amortised cost stays `O(k^2)`.
+//! `A` is refactorised from the current set (faer's LU with partial
+//! pivoting) when the set changes by many nodes at once, when a bordering
+//! or the capacitance system meets a small pivot, when the correction
+//! grows past a few nodes, and after a number of changes proportional to
+//! `k`, so the round-off that the updates accumulate stays bounded and the
+//! amortised cost stays `O(k^2)`.
 
-use faer::linalg::matmul::matmul;
-use faer::{Accum, MatMut, MatRef, Par};
-
-use super::kernels::four;
 use super::operators::Operators;
 use super::reduced::DenseLu;
 use super::solver::SlipDirection;
 
 const NONE: usize = usize::MAX;
 
-/// The `k x k` block of the inverse (column stride `ld`) and the two
-/// vectors of an entry's products ([`fused_products`]).
-struct Fused<'a> {
-    b: &'a [f64],
-    ld: usize,
-    k: usize,
-    c: &'a [f64],
-    r: &'a [f64],
-    v: &'a mut [f64],
-    w: &'a mut [f64],
-}
-
-/// `v = B c` and `w = B^T r` in one pass over `B` (`k x k`, column stride
-/// `ld`), four columns at a time: each column is read once for its part of
-/// `B c` and its dot product with `r`. With two separate products (faer's
-/// matrix-vector kernels) an entry read `B` twice, and at `N = 1024` the
-/// two passes were half of a run.
-///
-/// Every entry is a chain of fused multiply-adds in a fixed order and each
-/// dot product is kept in four lanes, in vectors of four where the
-/// processor has them and else in groups of four ([`f64::mul_add`] rounds
-/// once everywhere), so the numbers do not depend on the instruction set.
-fn fused_products(
-    b: &[f64],
-    ld: usize,
-    k: usize,
-    c: &[f64],
-    r: &[f64],
-    v: &mut [f64],
-    w: &mut [f64],
-) {
-    pulp::Arch::new().dispatch(Fused {
-        b,
-        ld,
-        k,
-        c: &c[..k],
-        r: &r[..k],
-        v: &mut v[..k],
-        w: &mut w[..k],
-    });
-}
-
-impl pulp::WithSimd for Fused<'_> {
-    type Output = ();
-    #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, simd: S) {
-        if S::F64_LANES == 4 {
-            fused_wide(simd, self);
-        } else {
-            fused_narrow(self);
-        }
-    }
-}
-
-/// The columns `j..j + 4` of `B` and their weights `c_j` in [`Fused`]; past
-/// the last column the last one stands in with weight 0 (its dot product
-/// is dropped).
-#[inline(always)]
-fn group<'a>(f: &Fused<'a>, j: usize) -> ([&'a [f64]; 4], [f64; 4]) {
-    let width = (f.k - j).min(4);
-    let (b, ld, k) = (f.b, f.ld, f.k);
-    let col = |t: usize| &b[(j + t.min(width - 1)) * ld..][..k];
-    let weight = |t: usize| if t < width { f.c[j + t] } else { 0.0 };
-    (
-        [col(0), col(1), col(2), col(3)],
-        [weight(0), weight(1), weight(2), weight(3)],
-    )
-}
-
-/// One entry of `B c` for a group of columns: `acc + sum_t x_t c_t`.
-#[inline(always)]
-fn column_sum(x: [f64; 4], c: [f64; 4], acc: f64) -> f64 {
-    let sum = x[0].mul_add(c[0], acc);
-    let sum = x[1].mul_add(c[1], sum);
-    let sum = x[2].mul_add(c[2], sum);
-    x[3].mul_add(c[3], sum)
-}
-
-/// Rows `from..k` of a group (those past the last whole group of four),
-/// into `v`, and the group's dot products: lanes `d` plus those rows.
-#[inline(always)]
-fn group_end(
-    f: &mut Fused<'_>,
-    j: usize,
-    from: usize,
-    cols: [&[f64]; 4],
-    c: [f64; 4],
-    d: [[f64; 4]; 4],
-) {
-    let mut tail = [0.0f64; 4];
-    let rows = f.v[from..].iter_mut().zip(&f.r[from..]);
-    for (i, (v, &r)) in (from..).zip(rows) {
-        let x = cols.map(|col| col[i]);
-        *v = column_sum(x, c, *v);
-        for (sum, xt) in tail.iter_mut().zip(x) {
-            *sum = xt.mul_add(r, *sum);
-        }
-    }
-    let width = (f.k - j).min(4);
-    for ((w, lanes), sum) in f.w[j..j + width].iter_mut().zip(d).zip(tail) {
-        *w = ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) + sum;
-    }
-}
-
-/// [`fused_products`] in groups of four rows, for processors without
-/// vectors of four lanes.
-#[inline(always)]
-fn fused_narrow(mut f: Fused<'_>) {
-    f.v.fill(0.0);
-    let whole = f.k / 4;
-    for j in (0..f.k).step_by(4) {
-        let (cols, c) = group(&f, j);
-        let mut d = [[0.0f64; 4]; 4];
-        let rows = f.v.as_chunks_mut::<4>().0.iter_mut().zip(four(f.r));
-        for (i, (acc, r)) in rows.enumerate() {
-            for l in 0..4 {
-                let x = cols.map(|col| col[4 * i + l]);
-                acc[l] = column_sum(x, c, acc[l]);
-                for t in 0..4 {
-                    d[t][l] = x[t].mul_add(r[l], d[t][l]);
-                }
-            }
-        }
-        group_end(&mut f, j, 4 * whole, cols, c, d);
-    }
-}
-
-/// [`fused_products`] in vectors of four lanes (`S::F64_LANES == 4`): the
-/// same operations in the same order at each entry.
-#[inline(always)]
-fn fused_wide<S: pulp::Simd>(simd: S, mut f: Fused<'_>) {
-    f.v.fill(0.0);
-    let whole = f.k / 4;
-    for j in (0..f.k).step_by(4) {
-        let (cols, c) = group(&f, j);
-        let x = cols.map(|col| S::as_simd_f64s(col).0);
-        let s = c.map(|ct| simd.splat_f64s(ct));
-        let vr = S::as_simd_f64s(f.r).0;
-        let va = S::as_mut_simd_f64s(f.v).0;
-        let mut d = [simd.splat_f64s(0.0); 4];
-        // Zipped, not indexed: no bounds check in the loop.
-        let rows = va
-            .iter_mut()
-            .zip(vr)
-            .zip(x[0])
-            .zip(x[1])
-            .zip(x[2])
-            .zip(x[3]);
-        for (((((a, &ri), &y0), &y1), &y2), &y3) in rows {
-            let sum = simd.mul_add_e_f64s(y0, s[0], *a);
-            let sum = simd.mul_add_e_f64s(y1, s[1], sum);
-            let sum = simd.mul_add_e_f64s(y2, s[2], sum);
-            *a = simd.mul_add_e_f64s(y3, s[3], sum);
-            d[0] = simd.mul_add_e_f64s(y0, ri, d[0]);
-            d[1] = simd.mul_add_e_f64s(y1, ri, d[1]);
-            d[2] = simd.mul_add_e_f64s(y2, ri, d[2]);
-            d[3] = simd.mul_add_e_f64s(y3, ri, d[3]);
-        }
-        let lanes = d.map(|dt| {
-            let mut l = [0.0f64; 4];
-            l.copy_from_slice(pulp::bytemuck::cast_slice(std::slice::from_ref(&dt)));
-            l
-        });
-        group_end(&mut f, j, 4 * whole, cols, c, lanes);
-    }
-}
-
-/// A pivot (Schur complement or diagonal entry of the inverse) below this
-/// fraction of its scale makes an update unreliable: rebuild instead.
+/// A pivot (Schur complement or capacitance pivot) below this fraction of
+/// its scale makes an update unreliable: rebuild instead.
 const PIVOT_TOL: f64 = 1e-8;
 
-/// Room to grow left in each column of the inverse for a set of `k`
+/// Room to grow left in each column of the factors for a set of `k`
 /// nodes (see [`SetInverse::relayout`]).
 fn slack(k: usize) -> usize {
     (k / 8).max(8)
 }
 
-/// The most rank-one terms kept pending (see the module's documentation).
-const MAX_TERMS: usize = 32;
+/// The most pinned or reversed nodes of the base kept as a correction.
+const MAX_SPECIAL: usize = 24;
 
-/// Terms pending at which they are added to `B0`, for a set of `k` nodes:
-/// a quarter of `k`, so that the pending terms cost at most about as much
-/// as a pass over `B0` per change.
-fn term_limit(k: usize) -> usize {
-    (k / 4).clamp(1, MAX_TERMS)
+/// Pinned or reversed nodes at which the base is refactorised, for a base
+/// of `k` nodes: the correction costs `O(k m)` per change for `m` of them
+/// (and `O(k m^2)` with reversals), against `O(k^3)` for a new LU.
+fn special_limit(k: usize) -> usize {
+    (k / 16).clamp(4, MAX_SPECIAL)
 }
 
-/// `M_SS^-1` for the current slip set, column-major.
-pub(crate) struct SetInverse {
-    n: usize,
-    /// The column stride of the inverse: `k` and a little room to grow,
-    /// so that the inverse lies in one nearly contiguous block (about half
-    /// again as fast to read at `k = 300` as columns `N` apart, which
-    /// defeat the prefetcher). The pending terms have stride `N`.
+/// Multiply-adds on slices in a fixed order: vectors of four lanes where
+/// the processor has them ([`Wide`]), else groups of four ([`Narrow`]),
+/// with [`f64::mul_add`] (one rounding) everywhere, so the numbers do not
+/// depend on the instruction set.
+///
+/// The triangular passes go four columns at a time ([`Lanes::axpy4`],
+/// [`Lanes::dot4`]): each entry of the vector they update is loaded and
+/// stored once per four columns, not once per column, and the four dot
+/// products are four independent chains of multiply-adds, so a pass runs
+/// at the speed the factors stream from memory.
+trait Lanes: Copy {
+    /// `y -= a x`.
+    fn axpy(self, y: &mut [f64], x: &[f64], a: f64);
+    /// `y -= a_0 x_0 + a_1 x_1 + a_2 x_2 + a_3 x_3`, in that order, from
+    /// the first entry to the last.
+    fn axpy4(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4]);
+    /// [`Lanes::axpy4`] from the last entry to the first (the same numbers),
+    /// so that a back substitution has its next unknowns first.
+    fn axpy4_down(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4]);
+    /// `a_t . b` for four columns `a_t`, each in four lanes added as
+    /// `(l0 + l1) + (l2 + l3)`, then the entries past the last group of
+    /// four.
+    fn dot4(self, a: [&[f64]; 4], b: &[f64]) -> [f64; 4];
+}
+
+#[derive(Clone, Copy)]
+struct Wide<S>(S);
+
+#[derive(Clone, Copy)]
+struct Narrow;
+
+/// One entry of [`Lanes::axpy4`].
+#[inline(always)]
+fn axpy4_entry(y: f64, x: [f64; 4], a: [f64; 4]) -> f64 {
+    let y = x[0].mul_add(-a[0], y);
+    let y = x[1].mul_add(-a[1], y);
+    let y = x[2].mul_add(-a[2], y);
+    x[3].mul_add(-a[3], y)
+}
+
+/// The lanes of a [`Lanes::dot4`] product and its tail, added.
+#[inline(always)]
+fn lane_sum(l: [f64; 4], tail: f64) -> f64 {
+    ((l[0] + l[1]) + (l[2] + l[3])) + tail
+}
+
+impl<S: pulp::Simd> Lanes for Wide<S> {
+    #[inline(always)]
+    fn axpy(self, y: &mut [f64], x: &[f64], a: f64) {
+        let simd = self.0;
+        let (xh, xt) = S::as_simd_f64s(&x[..y.len()]);
+        let (yh, yt) = S::as_mut_simd_f64s(y);
+        let minus_a = simd.splat_f64s(-a);
+        for (yv, &xv) in yh.iter_mut().zip(xh) {
+            *yv = simd.mul_add_e_f64s(xv, minus_a, *yv);
+        }
+        for (yv, &xv) in yt.iter_mut().zip(xt) {
+            *yv = xv.mul_add(-a, *yv);
+        }
+    }
+
+    #[inline(always)]
+    fn axpy4(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4]) {
+        let simd = self.0;
+        let m = y.len();
+        let x = x.map(|c| S::as_simd_f64s(&c[..m]));
+        let (yh, yt) = S::as_mut_simd_f64s(y);
+        let na = a.map(|t| simd.splat_f64s(-t));
+        // Zipped, not indexed: no bounds check in the loop.
+        let rows = yh
+            .iter_mut()
+            .zip(x[0].0)
+            .zip(x[1].0)
+            .zip(x[2].0)
+            .zip(x[3].0);
+        for ((((yv, &x0), &x1), &x2), &x3) in rows {
+            let acc = simd.mul_add_e_f64s(x0, na[0], *yv);
+            let acc = simd.mul_add_e_f64s(x1, na[1], acc);
+            let acc = simd.mul_add_e_f64s(x2, na[2], acc);
+            *yv = simd.mul_add_e_f64s(x3, na[3], acc);
+        }
+        for (i, yv) in yt.iter_mut().enumerate() {
+            *yv = axpy4_entry(*yv, x.map(|c| c.1[i]), a);
+        }
+    }
+
+    #[inline(always)]
+    fn axpy4_down(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4]) {
+        let simd = self.0;
+        let m = y.len();
+        let x = x.map(|c| S::as_simd_f64s(&c[..m]));
+        let (yh, yt) = S::as_mut_simd_f64s(y);
+        for (i, yv) in yt.iter_mut().enumerate().rev() {
+            *yv = axpy4_entry(*yv, x.map(|c| c.1[i]), a);
+        }
+        let na = a.map(|t| simd.splat_f64s(-t));
+        let rows = yh
+            .iter_mut()
+            .zip(x[0].0)
+            .zip(x[1].0)
+            .zip(x[2].0)
+            .zip(x[3].0);
+        for ((((yv, &x0), &x1), &x2), &x3) in rows.rev() {
+            let acc = simd.mul_add_e_f64s(x0, na[0], *yv);
+            let acc = simd.mul_add_e_f64s(x1, na[1], acc);
+            let acc = simd.mul_add_e_f64s(x2, na[2], acc);
+            *yv = simd.mul_add_e_f64s(x3, na[3], acc);
+        }
+    }
+
+    #[inline(always)]
+    fn dot4(self, a: [&[f64]; 4], b: &[f64]) -> [f64; 4] {
+        let simd = self.0;
+        let m = b.len();
+        let a = a.map(|c| S::as_simd_f64s(&c[..m]));
+        let (bh, bt) = S::as_simd_f64s(b);
+        let mut d = [simd.splat_f64s(0.0); 4];
+        let rows = bh.iter().zip(a[0].0).zip(a[1].0).zip(a[2].0).zip(a[3].0);
+        for ((((&bv, &a0), &a1), &a2), &a3) in rows {
+            d[0] = simd.mul_add_e_f64s(a0, bv, d[0]);
+            d[1] = simd.mul_add_e_f64s(a1, bv, d[1]);
+            d[2] = simd.mul_add_e_f64s(a2, bv, d[2]);
+            d[3] = simd.mul_add_e_f64s(a3, bv, d[3]);
+        }
+        std::array::from_fn(|t| {
+            let mut l = [0.0f64; 4];
+            l.copy_from_slice(pulp::bytemuck::cast_slice(std::slice::from_ref(&d[t])));
+            let mut tail = 0.0f64;
+            for (&x, &y) in a[t].1.iter().zip(bt) {
+                tail = x.mul_add(y, tail);
+            }
+            lane_sum(l, tail)
+        })
+    }
+}
+
+impl Lanes for Narrow {
+    #[inline(always)]
+    fn axpy(self, y: &mut [f64], x: &[f64], a: f64) {
+        for (yv, &xv) in y.iter_mut().zip(x) {
+            *yv = xv.mul_add(-a, *yv);
+        }
+    }
+
+    #[inline(always)]
+    fn axpy4(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4]) {
+        for (i, yv) in y.iter_mut().enumerate() {
+            *yv = axpy4_entry(*yv, x.map(|c| c[i]), a);
+        }
+    }
+
+    #[inline(always)]
+    fn axpy4_down(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4]) {
+        for (i, yv) in y.iter_mut().enumerate().rev() {
+            *yv = axpy4_entry(*yv, x.map(|c| c[i]), a);
+        }
+    }
+
+    #[inline(always)]
+    fn dot4(self, a: [&[f64]; 4], b: &[f64]) -> [f64; 4] {
+        let whole = b.len() / 4 * 4;
+        std::array::from_fn(|t| {
+            let mut l = [0.0f64; 4];
+            for (x, y) in a[t][..whole]
+                .chunks_exact(4)
+                .zip(b[..whole].chunks_exact(4))
+            {
+                for lane in 0..4 {
+                    l[lane] = x[lane].mul_add(y[lane], l[lane]);
+                }
+            }
+            let mut tail = 0.0f64;
+            for (&x, &y) in a[t][whole..b.len()].iter().zip(&b[whole..]) {
+                tail = x.mul_add(y, tail);
+            }
+            lane_sum(l, tail)
+        })
+    }
+}
+
+/// A triangular pass over the factors `P A = L U` (`k x k`, column stride
+/// `ld`: `L` strictly below the diagonal with a unit diagonal, `U` on and
+/// above it), dispatched once to the widest [`Lanes`].
+enum Pass<'a> {
+    /// `y = L^-1 y`, `y` zero above row `from`.
+    Lower { y: &'a mut [f64], from: usize },
+    /// `y = U^-1 y`.
+    Upper { y: &'a mut [f64] },
+    /// [`border_pass`].
+    Border {
+        u: &'a mut [f64],
+        r: &'a [f64],
+        l: &'a mut [f64],
+    },
+}
+
+/// The factors `P A = L U` of the base (`k x k`, column stride `ld`) and
+/// the reciprocals of the diagonal of `U` (a multiplication waits less
+/// than a division, and a pass waits on each).
+#[derive(Clone, Copy)]
+struct Factors<'a> {
+    lu: &'a [f64],
+    recip: &'a [f64],
     ld: usize,
-    friction: f64,
-    /// `B0`: the inverse is `B0 + U Z^T`; entry `(i, j)` at
-    /// `inv[j * ld + i]`, positions `0..k`; room for `N x N`.
-    inv: Vec<f64>,
-    /// The pending terms: `u_t` at `terms_u[t * N..]` and `z_t` at
-    /// `terms_z[t * N..]`, by position, `t < terms`.
-    terms_u: Vec<f64>,
-    terms_z: Vec<f64>,
-    terms: usize,
-    /// Scratch for the `terms` coefficients of a low-rank product.
-    coef: Vec<f64>,
-    /// Node and slip sign at each position.
-    nodes: Vec<usize>,
-    signs: Vec<f64>,
-    /// Position of each node, or `NONE`.
-    pos: Vec<usize>,
-    valid: bool,
-    /// The elastic pressure and shear per unit `x` and per unit `y`
-    /// (`[p_x, q_x, p_y, q_y]`), once given: the right-hand sides of the
-    /// two unit load directions, `b_a = -(q_a - s f p_a)` on the set.
-    loads: Option<Box<[Vec<f64>; 4]>>,
-    /// `M_SS^-1 b_a` for the two unit directions, by position, kept with
-    /// the inverse through every update (`O(k)` each) while `loads` is set.
-    sol: [Vec<f64>; 2],
-    /// Updates since the last rebuild.
-    updates: usize,
-    /// Rebuilds from a factorisation (for the increment's statistics).
-    pub(crate) rebuilds: usize,
-    // Scratch.
-    col: Vec<f64>,
-    row: Vec<f64>,
-    v: Vec<f64>,
-    w: Vec<f64>,
-    /// Nodes that stick or reverse in an update.
-    changed: Vec<usize>,
-    lu: DenseLu,
+    k: usize,
+}
+
+struct Triangular<'a> {
+    f: Factors<'a>,
+    pass: Pass<'a>,
+}
+
+impl pulp::WithSimd for Triangular<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, simd: S) {
+        if S::F64_LANES == 4 {
+            self.run(Wide(simd));
+        } else {
+            self.run(Narrow);
+        }
+    }
+}
+
+/// Columns `jb..jb + w` of the factors (`w <= 4`, `k` rows, stride `ld`);
+/// past the last the last stands in (with weight 0 in a product, or its
+/// dot product dropped).
+#[inline(always)]
+fn columns(lu: &[f64], ld: usize, k: usize, jb: usize, w: usize) -> [&[f64]; 4] {
+    std::array::from_fn(|t| {
+        let c = jb + t.min(w - 1);
+        &lu[c * ld..c * ld + k]
+    })
+}
+
+impl Triangular<'_> {
+    #[inline(always)]
+    fn run<V: Lanes>(self, lanes: V) {
+        let Factors { lu, recip, ld, k } = self.f;
+        match self.pass {
+            Pass::Lower { y, from } => {
+                // Column-oriented: column j of L is contiguous. (Only for
+                // a correction column, once per pinned or reversed node.)
+                for j in from..k {
+                    let (head, tail) = y[..k].split_at_mut(j + 1);
+                    let yj = head[j];
+                    if yj != 0.0 {
+                        lanes.axpy(tail, &lu[j * ld + j + 1..j * ld + k], yj);
+                    }
+                }
+            }
+            Pass::Upper { y } => {
+                let mut end = k;
+                while end > 0 {
+                    let jb = end.saturating_sub(4);
+                    let w = end - jb;
+                    let cols = columns(lu, ld, k, jb, w);
+                    // The block's own triangle, last column first.
+                    for t in (0..w).rev() {
+                        let yt = y[jb + t] * recip[jb + t];
+                        y[jb + t] = yt;
+                        for i in 0..t {
+                            y[jb + i] = cols[t][jb + i].mul_add(-yt, y[jb + i]);
+                        }
+                    }
+                    // The rows above it, four columns at once.
+                    let a = std::array::from_fn(|t| if t < w { y[jb + t] } else { 0.0 });
+                    lanes.axpy4_down(&mut y[..jb], cols.map(|c| &c[..jb]), a);
+                    end = jb;
+                }
+            }
+            Pass::Border { u, r, l } => {
+                for jb in (0..k).step_by(4) {
+                    let w = (k - jb).min(4);
+                    let cols = columns(lu, ld, k, jb, w);
+                    // U^T l = r: the four columns' dot products with the
+                    // rows above the block, then the block's triangle.
+                    let s = lanes.dot4(cols.map(|c| &c[..jb]), &l[..jb]);
+                    for t in 0..w {
+                        let mut acc = r[jb + t] - s[t];
+                        for i in 0..t {
+                            acc = cols[t][jb + i].mul_add(-l[jb + i], acc);
+                        }
+                        l[jb + t] = acc * recip[jb + t];
+                    }
+                    // u = L^-1 u: the block's triangle, then the rows
+                    // below it, four columns at once.
+                    for t in 1..w {
+                        for i in 0..t {
+                            u[jb + t] = cols[i][jb + t].mul_add(-u[jb + i], u[jb + t]);
+                        }
+                    }
+                    let a = std::array::from_fn(|t| if t < w { u[jb + t] } else { 0.0 });
+                    lanes.axpy4(&mut u[jb + w..k], cols.map(|c| &c[jb + w..k]), a);
+                }
+            }
+        }
+    }
+}
+
+/// Run one [`Pass`] over the factors.
+fn triangular(f: Factors<'_>, pass: Pass<'_>) {
+    if f.k > 0 {
+        pulp::Arch::new().dispatch(Triangular { f, pass });
+    }
+}
+
+/// The two triangular solves of a bordering in one pass over the factors,
+/// column by column: `u = L^-1 u` (the column of `L` below the diagonal)
+/// and `l = U^-T r` (the column of `U` above it). Reading each column once
+/// for both halves the passes over memory, which at `N = 1024` is what a
+/// bordering costs.
+fn border_pass(f: Factors<'_>, u: &mut [f64], r: &[f64], l: &mut [f64]) {
+    triangular(f, Pass::Border { u, r, l });
 }
 
 /// `a . b` in four lanes (a single running sum would not vectorise).
@@ -293,19 +399,76 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
-/// `a` as a column (`k x 1`).
-fn column(a: &[f64]) -> MatRef<'_, f64> {
-    MatRef::from_column_major_slice(a, a.len(), 1)
+/// What a node of the base matrix `A` is in the current set.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Role {
+    /// Slipping with the sign it has in `A`.
+    Active,
+    /// Stuck: its slip is held at 0 and its row is dropped.
+    Pinned,
+    /// Slipping the other way: its row is `A`'s plus a `delta`.
+    Reversed,
 }
 
-/// The leading `k x k` block of `inv` (column-major, stride `n`).
-fn block(inv: &[f64], k: usize, n: usize) -> MatRef<'_, f64> {
-    MatRef::from_column_major_slice_with_stride(&inv[..(k - 1) * n + k], k, k, n)
-}
-
-/// The same block, to write.
-fn block_mut(inv: &mut [f64], k: usize, n: usize) -> MatMut<'_, f64> {
-    MatMut::from_column_major_slice_with_stride_mut(&mut inv[..(k - 1) * n + k], k, k, n)
+/// The kept solutions of `M_SS x = b_S` for the current slip set, from a
+/// bordered LU of a base matrix and a low-rank correction (see the
+/// module's documentation).
+pub(crate) struct SetInverse {
+    n: usize,
+    /// The column stride of the factors: the base's size and a little room
+    /// to grow, so that they lie in one nearly contiguous block (columns
+    /// `N` apart defeat the prefetcher).
+    ld: usize,
+    friction: f64,
+    /// `P A = L U`: entry `(i, j)` at `lu[j * ld + i]`, `L` strictly below
+    /// the diagonal (unit diagonal), `U` on and above it; room for `N x N`.
+    lu: Vec<f64>,
+    /// `1 / U_jj`.
+    recip: Vec<f64>,
+    /// Row `i` of the factors is row `perm[i]` of `A`; `perm_inv` the
+    /// other way.
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    /// Node and slip sign at each position of `A`.
+    nodes: Vec<usize>,
+    signs: Vec<f64>,
+    /// What each position of `A` is in the current set.
+    roles: Vec<Role>,
+    /// Position in `A` of each node, or `NONE`.
+    pos: Vec<usize>,
+    /// The pinned and reversed positions, by slot: slot `t` has the column
+    /// `A^-1 e_q` at `special_cols[t * N..]` and, if reversed, the change
+    /// of its row at `deltas[t * N..]`.
+    special: Vec<usize>,
+    special_cols: Vec<f64>,
+    deltas: Vec<f64>,
+    /// The capacitance system of the correction, factorised for the
+    /// current set (`special.len()` square).
+    capacitance: DenseLu,
+    valid: bool,
+    /// The elastic pressure and shear per unit `x` and per unit `y`
+    /// (`[p_x, q_x, p_y, q_y]`), once given: the right-hand sides of the
+    /// two unit load directions, `b_a = -(q_a - s f p_a)` on the set.
+    loads: Option<Box<[Vec<f64>; 4]>>,
+    /// `A^-1 b_a` for the two unit directions (with `A`'s signs), by
+    /// position, kept through the borderings while `loads` is set.
+    base_sol: [Vec<f64>; 2],
+    /// The current set's solutions by position (0 where pinned), when
+    /// there is a correction; else `base_sol` is the solution.
+    sol: [Vec<f64>; 2],
+    /// Changes since the last factorisation.
+    updates: usize,
+    /// Factorisations (for the increment's statistics).
+    pub(crate) rebuilds: usize,
+    // Scratch.
+    col: Vec<f64>,
+    row: Vec<f64>,
+    v: Vec<f64>,
+    l: Vec<f64>,
+    coef: Vec<f64>,
+    /// Positions whose role changes in an update.
+    changed: Vec<(usize, Role)>,
+    factor: DenseLu,
 }
 
 impl Clone for SetInverse {
@@ -325,31 +488,32 @@ impl SetInverse {
             friction: f64::NAN,
             // The N x N buffers wait for the first rebuild: a cloned or
             // never-slipping contact does not pay for them.
-            inv: Vec::new(),
-            terms_u: Vec::new(),
-            terms_z: Vec::new(),
-            terms: 0,
-            coef: vec![0.0; MAX_TERMS],
+            lu: Vec::new(),
+            recip: vec![0.0; n],
+            perm: Vec::with_capacity(n),
+            perm_inv: Vec::with_capacity(n),
             nodes: Vec::with_capacity(n),
             signs: Vec::with_capacity(n),
+            roles: Vec::with_capacity(n),
             pos: vec![NONE; n],
+            special: Vec::with_capacity(MAX_SPECIAL),
+            special_cols: Vec::new(),
+            deltas: Vec::new(),
+            capacitance: DenseLu::new(MAX_SPECIAL),
             valid: false,
             loads: None,
+            base_sol: [vec![0.0; n], vec![0.0; n]],
             sol: [vec![0.0; n], vec![0.0; n]],
             updates: 0,
             rebuilds: 0,
             col: vec![0.0; n],
             row: vec![0.0; n],
             v: vec![0.0; n],
-            w: vec![0.0; n],
+            l: vec![0.0; n],
+            coef: vec![0.0; MAX_SPECIAL],
             changed: Vec::with_capacity(n),
-            lu: DenseLu::new(0),
+            factor: DenseLu::new(0),
         }
-    }
-
-    /// Size `k` of the set.
-    pub(crate) fn len(&self) -> usize {
-        self.nodes.len()
     }
 
     /// Keep the solutions for the two unit load directions from now on:
@@ -381,13 +545,20 @@ impl SetInverse {
     /// [`Self::set_loads`].
     pub(crate) fn rates(&self, ux: f64, uy: f64, out: &mut [f64]) -> bool {
         debug_assert!(self.loads.is_some(), "rates without loads");
-        let k = self.len();
+        let k = self.nodes.len();
         let mut finite = true;
-        let [sx, sy] = &self.sol;
-        for ((&node, &x), &y) in self.nodes.iter().zip(&sx[..k]).zip(&sy[..k]) {
-            let r = ux * x + uy * y;
-            finite &= r.is_finite();
-            out[node] = r;
+        let [sx, sy] = if self.special.is_empty() {
+            &self.base_sol
+        } else {
+            &self.sol
+        };
+        let positions = self.nodes.iter().zip(&self.roles);
+        for (((&node, &role), &x), &y) in positions.zip(&sx[..k]).zip(&sy[..k]) {
+            if role != Role::Pinned {
+                let r = ux * x + uy * y;
+                finite &= r.is_finite();
+                out[node] = r;
+            }
         }
         finite
     }
@@ -398,13 +569,25 @@ impl SetInverse {
         -ops.abs_derivative(row, col) - friction * sign * ops.hilbert(row, col)
     }
 
-    /// Make the inverse that of the slip set `target`, whose slipping nodes
-    /// and signs in node order are `set`; false if `M_SS` is singular to
-    /// working precision (the caller then has no responses).
+    /// What the node at position `p` of `A` is in `target`.
+    #[inline]
+    fn role_in(&self, target: &[SlipDirection], p: usize) -> Role {
+        let d = target[self.nodes[p]];
+        if !d.is_slipping() {
+            Role::Pinned
+        } else if d.sign() == self.signs[p] {
+            Role::Active
+        } else {
+            Role::Reversed
+        }
+    }
+
+    /// Make the solutions those of the slip set `target`, whose slipping
+    /// nodes and signs in node order are `set`; false if `M_SS` is singular
+    /// to working precision (the caller then has no responses).
     ///
-    /// The changes are found from `set` and the inverse's own nodes, in
-    /// `O(k)`, not by passes over all `N` nodes: at `N = 1024` three such
-    /// passes were 4 % of a run's instructions.
+    /// The changes are found from `set` and the base's own nodes, in
+    /// `O(k)`, not by passes over all `N` nodes.
     pub(crate) fn update_to(
         &mut self,
         ops: &Operators,
@@ -421,299 +604,220 @@ impl SetInverse {
         if !self.valid || self.friction != friction {
             return self.rebuild(ops, friction, target);
         }
-        let k = self.len();
-        // Nodes that enter, and nodes of the inverse that stick or reverse.
+        // Nodes that enter, and positions of A whose role changes.
         let mut changed = std::mem::take(&mut self.changed);
         changed.clear();
-        let mut entries = 0;
-        for &(j, sign) in set {
-            match self.pos[j] {
-                NONE => entries += 1,
-                p if self.signs[p] != sign => changed.push(j),
-                _ => {}
+        let entries = set.iter().filter(|&&(j, _)| self.pos[j] == NONE).count();
+        let mut special = 0;
+        for p in 0..self.nodes.len() {
+            let role = self.role_in(target, p);
+            special += usize::from(role != Role::Active);
+            if role != self.roles[p] {
+                changed.push((p, role));
             }
         }
-        changed.extend(self.nodes.iter().filter(|&&j| !target[j].is_slipping()));
         let changes = entries + changed.len();
         if changes == 0 {
             self.changed = changed;
             return true;
         }
-        // Past half the set (or many updates since the last factorisation)
-        // a rebuild costs about as much and is cleaner. (With a quarter the
-        // Fig. 3 map took 1 % more instructions; with the whole set, 0.2 %.)
-        if 2 * changes > k.max(8) || self.updates + changes > k.max(16) {
+        // Past half the set, past a few pinned or reversed nodes, or after
+        // many changes since the last factorisation, a rebuild costs about
+        // as much and is cleaner.
+        let k = set.len();
+        if 2 * changes > k.max(8)
+            || self.updates + changes > k.max(16)
+            || special > special_limit(self.nodes.len() + entries)
+        {
             self.changed = changed;
             return self.rebuild(ops, friction, target);
         }
-        // Leaves and flips first (the set shrinks), in node order, then
-        // entries in node order.
-        changed.sort_unstable();
         let mut ok = true;
-        for &j in &changed {
-            let p = self.pos[j];
-            ok = if target[j].is_slipping() {
-                self.flip(ops, p)
-            } else {
-                self.remove(p)
-            };
-            if !ok {
+        for &(p, role) in &changed {
+            self.set_role(ops, p, role);
+        }
+        self.changed = changed;
+        for &(j, sign) in set {
+            if self.pos[j] == NONE && !self.border(ops, j, sign) {
+                ok = false;
                 break;
             }
         }
-        self.changed = changed;
-        if !ok {
+        if !ok || !self.correct() {
             return self.rebuild(ops, friction, target);
-        }
-        for &(j, sign) in set {
-            if self.pos[j] == NONE && !self.add(ops, j, sign) {
-                return self.rebuild(ops, friction, target);
-            }
         }
         self.updates += changes;
         true
     }
 
-    /// A fresh inverse of `M_SS` from a pivoted LU.
+    /// A fresh LU of `M_SS` for the set of `target`, and the solutions.
     fn rebuild(&mut self, ops: &Operators, friction: f64, target: &[SlipDirection]) -> bool {
         for &node in &self.nodes {
             self.pos[node] = NONE;
         }
         self.nodes.clear();
         self.signs.clear();
+        self.roles.clear();
+        self.special.clear();
         for (j, d) in target.iter().enumerate() {
             if d.is_slipping() {
                 self.pos[j] = self.nodes.len();
                 self.nodes.push(j);
                 self.signs.push(d.sign());
+                self.roles.push(Role::Active);
             }
         }
         self.friction = friction;
         self.updates = 0;
-        self.terms = 0;
         self.rebuilds += 1;
         self.valid = false;
-        let k = self.len();
+        let k = self.nodes.len();
+        self.perm.clear();
+        self.perm_inv.clear();
         if k == 0 {
             self.valid = true;
             return true;
         }
-        if self.inv.len() < self.n * self.n {
-            self.inv = vec![0.0; self.n * self.n];
-            self.terms_u = vec![0.0; self.n * MAX_TERMS];
-            self.terms_z = vec![0.0; self.n * MAX_TERMS];
-            self.lu = DenseLu::new(self.n);
+        if self.lu.len() < self.n * self.n {
+            self.lu = vec![0.0; self.n * self.n];
+            self.special_cols = vec![0.0; self.n * MAX_SPECIAL];
+            self.deltas = vec![0.0; self.n * MAX_SPECIAL];
+            self.factor = DenseLu::new(self.n);
         }
         self.ld = (k + slack(k)).min(self.n);
-        let n = self.ld;
+        let ld = self.ld;
         // Assemble M_SS column-major (k x k) and factorise it.
         for (b, &col) in self.nodes.iter().enumerate() {
             let hcol = ops.hilbert_col(col);
             let dcol = ops.abs_derivative_col(col);
-            let out = &mut self.lu.lu[b * k..(b + 1) * k];
+            let out = &mut self.factor.lu[b * k..(b + 1) * k];
             for ((o, &row), &sign) in out.iter_mut().zip(&self.nodes).zip(&self.signs) {
                 *o = -dcol[row] - friction * sign * hcol[row];
             }
         }
-        self.lu.factorise(k);
-        self.lu.inverse_into(&mut self.inv, n);
-        for c in 0..k {
-            if self.inv[c * n..c * n + k].iter().any(|v| !v.is_finite()) {
+        self.factor.factorise(k);
+        for j in 0..k {
+            self.lu[j * ld..j * ld + k].copy_from_slice(&self.factor.lu[j * k..(j + 1) * k]);
+        }
+        self.perm.extend_from_slice(self.factor.perm(k));
+        self.perm_inv.resize(k, 0);
+        for (i, &p) in self.perm.iter().enumerate() {
+            self.perm_inv[p] = i;
+        }
+        for j in 0..k {
+            let d = self.lu[j * ld + j];
+            if d == 0.0 || !d.is_finite() {
                 return false;
             }
+            self.recip[j] = 1.0 / d;
         }
         if self.loads.is_some() {
-            // The two solutions afresh: x_a = B b_a.
-            for i in 0..k {
-                [self.col[i], self.row[i]] = self.rhs(self.nodes[i], self.signs[i]);
-            }
-            let b = block(&self.inv, k, n);
-            for (sol, rhs) in self.sol.iter_mut().zip([&self.col, &self.row]) {
-                let out = MatMut::from_column_major_slice_mut(&mut sol[..k], k, 1);
-                matmul(out, Accum::Replace, b, column(&rhs[..k]), 1.0, Par::Seq);
+            for d in 0..2 {
+                let mut x = std::mem::take(&mut self.base_sol[d]);
+                for (p, xp) in x[..k].iter_mut().enumerate() {
+                    *xp = self.rhs(self.nodes[p], self.signs[p])[d];
+                }
+                self.solve_base(&mut x);
+                let finite = x[..k].iter().all(|v| v.is_finite());
+                self.base_sol[d] = x;
+                if !finite {
+                    return false;
+                }
             }
         }
         self.valid = true;
         true
     }
 
-    /// Give the inverse the column stride `ld` (at most `N`), moving its
+    /// `x = A^-1 x` (by position of `A`), through the factors.
+    fn solve_base(&mut self, x: &mut [f64]) {
+        let (k, ld) = (self.nodes.len(), self.ld);
+        let y = &mut self.v;
+        for (yi, &p) in y[..k].iter_mut().zip(&self.perm) {
+            *yi = x[p];
+        }
+        let f = Factors {
+            lu: &self.lu,
+            recip: &self.recip,
+            ld,
+            k,
+        };
+        triangular(f, Pass::Lower { y, from: 0 });
+        triangular(f, Pass::Upper { y });
+        x[..k].copy_from_slice(&y[..k]);
+    }
+
+    /// Give the factors the column stride `ld` (at most `N`), moving their
     /// columns: `O(k^2)`, once per `k / 8` entries at most.
     fn relayout(&mut self, ld: usize) {
-        let (old, k) = (self.ld, self.len());
+        let (old, k) = (self.ld, self.nodes.len());
         let ld = ld.min(self.n);
         if ld > old {
             for j in (1..k).rev() {
-                self.inv.copy_within(j * old..j * old + k, j * ld);
+                self.lu.copy_within(j * old..j * old + k, j * ld);
             }
         } else {
             for j in 1..k {
-                self.inv.copy_within(j * old..j * old + k, j * ld);
+                self.lu.copy_within(j * old..j * old + k, j * ld);
             }
         }
         self.ld = ld;
     }
 
-    /// The pending terms `U` (`which = 0`) or `Z` (`which = 1`) as a
-    /// `k x terms` matrix.
-    fn pending(&self, which: usize) -> MatRef<'_, f64> {
-        let (n, k, t) = (self.n, self.len(), self.terms);
-        let buf = if which == 0 {
-            &self.terms_u
-        } else {
-            &self.terms_z
-        };
-        MatRef::from_column_major_slice_with_stride(&buf[..(t - 1) * n + k], k, t, n)
-    }
-
-    /// `out += X a`, `X` the pending `U` or `Z` (`which`), `a` the first
-    /// `terms` entries of `coef`.
-    fn add_pending(&self, which: usize, out: &mut [f64]) {
-        let t = self.terms;
-        let out = MatMut::from_column_major_slice_mut(out, self.len(), 1);
-        matmul(
-            out,
-            Accum::Add,
-            self.pending(which),
-            column(&self.coef[..t]),
-            1.0,
-            Par::Seq,
-        );
-    }
-
-    /// `coef = X^T x`, `X` the pending `U` or `Z` (`which`).
-    fn pending_dots(&mut self, which: usize, x: &[f64]) {
-        let t = self.terms;
-        let mut coef = std::mem::take(&mut self.coef);
-        let out = MatMut::from_column_major_slice_mut(&mut coef[..t], t, 1);
-        matmul(
-            out,
-            Accum::Replace,
-            self.pending(which).transpose(),
-            column(x),
-            1.0,
-            Par::Seq,
-        );
-        self.coef = coef;
-    }
-
-    /// `coef` = row `p` of the pending `U` or `Z` (`which`).
-    fn pending_row(&mut self, which: usize, p: usize) {
-        let n = self.n;
-        let buf = if which == 0 {
-            &self.terms_u
-        } else {
-            &self.terms_z
-        };
-        for (t, c) in self.coef[..self.terms].iter_mut().enumerate() {
-            *c = buf[t * n + p];
-        }
-    }
-
-    /// Column `p` of `B` into `v` and, if `with_row`, row `p` of `B` into
-    /// `w`.
-    fn row_and_column(&mut self, p: usize, with_row: bool) {
-        let (n, k) = (self.ld, self.len());
-        let mut v = std::mem::take(&mut self.v);
-        v[..k].copy_from_slice(&self.inv[p * n..p * n + k]);
-        if self.terms > 0 {
-            // B_:p = B0_:p + U z_p,:
-            self.pending_row(1, p);
-            self.add_pending(0, &mut v[..k]);
-        }
-        self.v = v;
-        if with_row {
-            let mut w = std::mem::take(&mut self.w);
-            for (j, wj) in w[..k].iter_mut().enumerate() {
-                *wj = self.inv[j * n + p];
+    /// Give the position `p` of `A` the role `role` in the correction:
+    /// its column `A^-1 e_p` when it leaves the active nodes, its row's
+    /// change when it reverses.
+    fn set_role(&mut self, ops: &Operators, p: usize, role: Role) {
+        let (n, k) = (self.n, self.nodes.len());
+        let old = self.roles[p];
+        self.roles[p] = role;
+        if role == Role::Active {
+            // Out of the correction: the last slot moves into its slot.
+            let t = self.special.iter().position(|&q| q == p).expect("slot");
+            let last = self.special.len() - 1;
+            if t != last {
+                self.special_cols.copy_within(last * n..last * n + k, t * n);
+                self.deltas.copy_within(last * n..last * n + k, t * n);
             }
-            if self.terms > 0 {
-                // B_p,: = B0_p,: + Z u_p,:
-                self.pending_row(0, p);
-                self.add_pending(1, &mut w[..k]);
-            }
-            self.w = w;
-        }
-    }
-
-    /// `v = B c` (`c` in `col`, if `with_column`) and `w = B^T r` (`r` in
-    /// `row`): one pass over `B0` for both ([`fused_products`]), or for
-    /// `w` alone, then the pending terms.
-    fn products(&mut self, with_column: bool) {
-        let (n, k) = (self.ld, self.len());
-        let mut v = std::mem::take(&mut self.v);
-        let mut w = std::mem::take(&mut self.w);
-        if with_column {
-            fused_products(&self.inv, n, k, &self.col, &self.row, &mut v, &mut w);
-        } else {
-            let w_out = MatMut::from_column_major_slice_mut(&mut w[..k], k, 1);
-            matmul(
-                w_out,
-                Accum::Replace,
-                block(&self.inv, k, n).transpose(),
-                column(&self.row[..k]),
-                1.0,
-                Par::Seq,
-            );
-        }
-        if self.terms > 0 {
-            // B c = B0 c + U (Z^T c), B^T r = B0^T r + Z (U^T r).
-            if with_column {
-                let c = std::mem::take(&mut self.col);
-                self.pending_dots(1, &c[..k]);
-                self.col = c;
-                self.add_pending(0, &mut v[..k]);
-            }
-            let r = std::mem::take(&mut self.row);
-            self.pending_dots(0, &r[..k]);
-            self.row = r;
-            self.add_pending(1, &mut w[..k]);
-        }
-        self.v = v;
-        self.w = w;
-    }
-
-    /// Add the pending terms to `B0`.
-    fn flush(&mut self) {
-        let (n, k) = (self.ld, self.len());
-        if self.terms == 0 || k == 0 {
-            self.terms = 0;
+            self.special.swap_remove(t);
             return;
         }
-        let mut inv = std::mem::take(&mut self.inv);
-        matmul(
-            block_mut(&mut inv, k, n),
-            Accum::Add,
-            self.pending(0),
-            self.pending(1).transpose(),
-            1.0,
-            Par::Seq,
-        );
-        self.inv = inv;
-        self.terms = 0;
+        let t = if old == Role::Active {
+            // A^-1 e_p: row perm_inv[p] of the factors' right-hand side.
+            let t = self.special.len();
+            self.special.push(p);
+            let from = self.perm_inv[p];
+            let ld = self.ld;
+            let y = &mut self.special_cols[t * n..t * n + k];
+            y.fill(0.0);
+            y[from] = 1.0;
+            let f = Factors {
+                lu: &self.lu,
+                recip: &self.recip,
+                ld,
+                k,
+            };
+            triangular(f, Pass::Lower { y, from });
+            triangular(f, Pass::Upper { y });
+            t
+        } else {
+            self.special.iter().position(|&q| q == p).expect("slot")
+        };
+        if role == Role::Reversed {
+            // Row p gains 2 f s H[node, S] (H[node, c] = -H[c, node]).
+            let f2 = -2.0 * self.friction * self.signs[p];
+            let hcol = ops.hilbert_col(self.nodes[p]);
+            let delta = &mut self.deltas[t * n..t * n + k];
+            for (d, &node) in delta.iter_mut().zip(&self.nodes) {
+                *d = f2 * hcol[node];
+            }
+        }
     }
 
-    /// `B += alpha v w^T` on the leading `k x k` block (`v`, `w` the
-    /// scratch vectors), as a pending term.
-    fn rank_one(&mut self, alpha: f64) {
-        let (n, k) = (self.n, self.len());
-        if k == 0 {
-            return;
-        }
-        let t = self.terms;
-        for (u, &vi) in self.terms_u[t * n..t * n + k].iter_mut().zip(&self.v[..k]) {
-            *u = alpha * vi;
-        }
-        self.terms_z[t * n..t * n + k].copy_from_slice(&self.w[..k]);
-        self.terms += 1;
-        if self.terms >= term_limit(k) {
-            self.flush();
-        }
-    }
-
-    /// Node `a` enters with sign `sign`: the bordered inverse.
-    fn add(&mut self, ops: &Operators, a: usize, sign: f64) -> bool {
-        let (k, f) = (self.len(), self.friction);
+    /// Node `a` enters with sign `sign`: `A` is bordered by its column and
+    /// row, and the kept solutions and correction columns follow.
+    fn border(&mut self, ops: &Operators, a: usize, sign: f64) -> bool {
+        let (k, f, n) = (self.nodes.len(), self.friction, self.n);
         // Column M_Sa and row M_aS (H is odd and |D| even in theta, so the
         // row is read from column a).
         let hcol = ops.hilbert_col(a);
@@ -724,174 +828,192 @@ impl SetInverse {
             self.row[i] = -dcol[node] + f * sign * hcol[node];
         }
         let d0 = Self::entry(ops, f, a, sign, a);
-        // v = B c, w^T = r^T B: the O(k^2) cost of an event at large N.
-        if k > 0 {
-            self.products(true);
+        // u = L^-1 P c into v, l = U^-T r.
+        for (vi, &p) in self.v[..k].iter_mut().zip(&self.perm) {
+            *vi = self.col[p];
         }
-        let rv = dot(&self.row[..k], &self.v[..k]);
-        let sigma = d0 - rv;
-        let scale = d0.abs().max(rv.abs());
+        let factors = Factors {
+            lu: &self.lu,
+            recip: &self.recip,
+            ld: self.ld,
+            k,
+        };
+        border_pass(factors, &mut self.v, &self.row, &mut self.l);
+        let lu_dot = dot(&self.l[..k], &self.v[..k]);
+        let sigma = d0 - lu_dot;
+        let scale = d0.abs().max(lu_dot.abs());
         if !sigma.is_finite() || sigma.abs() <= PIVOT_TOL * scale {
             return false;
+        }
+        if k == self.ld {
+            self.relayout(k + slack(k));
+        }
+        let ld = self.ld;
+        for (j, &lj) in self.l[..k].iter().enumerate() {
+            self.lu[j * ld + k] = lj;
+        }
+        self.lu[k * ld..k * ld + k].copy_from_slice(&self.v[..k]);
+        self.lu[k * ld + k] = sigma;
+        self.recip[k] = 1.0 / sigma;
+        // v = A^-1 c = U^-1 u (the first k columns).
+        let factors = Factors {
+            lu: &self.lu,
+            recip: &self.recip,
+            ld,
+            k,
+        };
+        triangular(factors, Pass::Upper { y: &mut self.v });
+        let v = &self.v[..k];
+        let row = &self.row[..k];
+        // The correction's columns: A_new^-1 e_q = (w + v (r.w) / sigma,
+        // -(r.w) / sigma) for w = A^-1 e_q, and the reversed rows' changes
+        // gain column a.
+        for (t, &q) in self.special.iter().enumerate() {
+            let w = &mut self.special_cols[t * n..t * n + k + 1];
+            let c = dot(row, &w[..k]) / sigma;
+            for (wi, &vi) in w[..k].iter_mut().zip(v) {
+                *wi += c * vi;
+            }
+            w[k] = -c;
+            if self.roles[q] == Role::Reversed {
+                self.deltas[t * n + k] = 2.0 * f * self.signs[q] * hcol[self.nodes[q]];
+            }
         }
         if self.loads.is_some() {
             // The bordered system's solution: the new entry
             // xi = (beta - r^T x) / sigma, and x - xi v on the old set.
             let betas = self.rhs(a, sign);
-            for (sol, beta) in self.sol.iter_mut().zip(betas) {
-                let xi = (beta - dot(&self.row[..k], &sol[..k])) / sigma;
-                for (x, &vi) in sol[..k].iter_mut().zip(&self.v[..k]) {
+            for (sol, beta) in self.base_sol.iter_mut().zip(betas) {
+                let xi = (beta - dot(row, &sol[..k])) / sigma;
+                for (x, &vi) in sol[..k].iter_mut().zip(v) {
                     *x -= xi * vi;
                 }
                 sol[k] = xi;
             }
         }
-        let inv_sigma = 1.0 / sigma;
-        // B += v w^T / sigma; the new row is -w^T / sigma, the new column
-        // -v / sigma, both in B0 (the pending terms are 0 there).
-        for wj in self.w[..k].iter_mut() {
-            *wj *= inv_sigma;
-        }
-        self.rank_one(1.0);
-        let nt = self.n;
-        for t in 0..self.terms {
-            self.terms_u[t * nt + k] = 0.0;
-            self.terms_z[t * nt + k] = 0.0;
-        }
-        if k == self.ld {
-            self.relayout(k + slack(k));
-        }
-        let n = self.ld;
-        let (v, w) = (&self.v[..k], &self.w[..k]);
-        for (j, &wj) in w.iter().enumerate() {
-            self.inv[j * n + k] = -wj;
-        }
-        for (i, &vi) in v.iter().enumerate() {
-            self.inv[k * n + i] = -vi * inv_sigma;
-        }
-        self.inv[k * n + k] = inv_sigma;
+        self.perm.push(k);
+        self.perm_inv.push(k);
         self.pos[a] = k;
         self.nodes.push(a);
         self.signs.push(sign);
+        self.roles.push(Role::Active);
         true
     }
 
-    /// The node at position `p` leaves the set.
-    fn remove(&mut self, p: usize) -> bool {
-        let (n, k) = (self.ld, self.len());
-        // Column r (v) and row r (w) of B, then B -= v w^T / B_rr.
-        self.row_and_column(p, true);
-        let brr = self.v[p];
-        let scale = self.v[..k].iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        if !brr.is_finite() || brr.abs() <= PIVOT_TOL * scale {
-            return false;
+    /// Factorise the capacitance system of the correction and apply it to
+    /// the kept solutions; false if it is singular to working precision.
+    fn correct(&mut self) -> bool {
+        if self.special.is_empty() {
+            return true;
         }
-        for wj in &mut self.w[..k] {
-            *wj /= brr;
+        if !self.factor_capacitance() || self.loads.is_none() {
+            return self.loads.is_none();
         }
-        if self.loads.is_some() {
-            // Without node r the solution is x - B_:r x_r / B_rr (whose
-            // entry r is 0).
-            for sol in &mut self.sol {
-                let c = sol[p] / brr;
-                for (x, &vi) in sol[..k].iter_mut().zip(&self.v[..k]) {
-                    *x -= c * vi;
-                }
-                sol[p] = sol[k - 1];
+        let k = self.nodes.len();
+        for d in 0..2 {
+            let mut out = std::mem::take(&mut self.sol[d]);
+            let base = std::mem::take(&mut self.base_sol[d]);
+            // The change of the reversed rows' right-hand sides.
+            for (t, &q) in self.special.iter().enumerate() {
+                let (node, s) = (self.nodes[q], self.signs[q]);
+                self.coef[t] = self.rhs(node, -s)[d] - self.rhs(node, s)[d];
+            }
+            let ok = self.apply_correction(&base[..k], &mut out[..k]);
+            self.sol[d] = out;
+            self.base_sol[d] = base;
+            if !ok {
+                return false;
             }
         }
-        self.rank_one(-1.0);
-        // Move the last position into p (row and column r of B are now 0
-        // and are dropped).
-        let removed = self.nodes[p];
-        self.pos[removed] = NONE;
-        let last = k - 1;
-        if p != last {
-            for i in 0..k {
-                self.inv[p * n + i] = self.inv[last * n + i];
-            }
-            for j in 0..k {
-                self.inv[j * n + p] = self.inv[j * n + last];
-            }
-            self.inv[p * n + p] = self.inv[last * n + last];
-            let nt = self.n;
-            for t in 0..self.terms {
-                self.terms_u[t * nt + p] = self.terms_u[t * nt + last];
-                self.terms_z[t * nt + p] = self.terms_z[t * nt + last];
-            }
-            let moved = self.nodes[last];
-            self.pos[moved] = p;
-            self.nodes[p] = moved;
-            self.signs[p] = self.signs[last];
-        }
-        self.nodes.pop();
-        self.signs.pop();
         true
     }
 
-    /// The node at position `p` reverses its direction.
-    fn flip(&mut self, ops: &Operators, p: usize) -> bool {
-        let (k, f) = (self.len(), self.friction);
-        let node = self.nodes[p];
-        let sign = self.signs[p];
-        // Row p gains delta = 2 f s H[node, S]; H[node, c] = -H[c, node].
-        let hcol = ops.hilbert_col(node);
-        for i in 0..k {
-            self.row[i] = -2.0 * f * sign * hcol[self.nodes[i]];
-        }
-        // w^T = delta^T B, u = B e_p.
-        self.products(false);
-        let denom = 1.0 + self.w[p];
-        if !denom.is_finite() || denom.abs() <= PIVOT_TOL * (1.0 + self.w[p].abs()) {
-            return false;
-        }
-        self.row_and_column(p, false);
-        for vi in &mut self.v[..k] {
-            *vi /= denom;
-        }
-        if self.loads.is_some() {
-            // Row p of M gains delta and b_p changes by d: the solution
-            // gains (d - delta^T x) B e_p / (1 + w_p) = (d - delta^T x) v.
-            let (old, new) = (self.rhs(node, sign), self.rhs(node, -sign));
-            for ((sol, b0), b1) in self.sol.iter_mut().zip(old).zip(new) {
-                let c = (b1 - b0) - dot(&self.row[..k], &sol[..k]);
-                for (x, &vi) in sol[..k].iter_mut().zip(&self.v[..k]) {
-                    *x += c * vi;
-                }
+    /// The capacitance system of the pinned and reversed positions `q`
+    /// (slots `t`), for the unknowns `z_t` of `x = x_A + sum_t z_t A^-1 e_q`:
+    /// a reversed row `t` says `z_t = beta_t - delta_t . x`, a pinned row
+    /// says `x_q = 0`.
+    fn factor_capacitance(&mut self) -> bool {
+        let (n, k, m) = (self.n, self.nodes.len(), self.special.len());
+        let mut scale = 0.0f64;
+        for b in 0..m {
+            let w = &self.special_cols[b * n..b * n + k];
+            for (a, &q) in self.special.iter().enumerate() {
+                let c = if self.roles[q] == Role::Reversed {
+                    let delta = &self.deltas[a * n..a * n + k];
+                    f64::from(u8::from(a == b)) + dot(delta, w)
+                } else {
+                    w[q]
+                };
+                scale = scale.max(c.abs());
+                self.capacitance.lu[b * m + a] = c;
             }
         }
-        self.rank_one(-1.0);
-        self.signs[p] = -sign;
-        true
+        self.capacitance.factorise(m);
+        (0..m).all(|i| {
+            let d = self.capacitance.lu[i * m + i];
+            d.is_finite() && d.abs() > PIVOT_TOL * scale
+        })
+    }
+
+    /// `out = x_A + sum_t z_t A^-1 e_q` for the base solution `base`
+    /// (`x_A`) and the reversed rows' right-hand side changes in `coef`,
+    /// with the capacitance system factorised; 0 at pinned positions.
+    fn apply_correction(&mut self, base: &[f64], out: &mut [f64]) -> bool {
+        let (n, k, m) = (self.n, self.nodes.len(), self.special.len());
+        let mut z = std::mem::take(&mut self.coef);
+        for (t, &q) in self.special.iter().enumerate() {
+            z[t] = if self.roles[q] == Role::Reversed {
+                z[t] - dot(&self.deltas[t * n..t * n + k], base)
+            } else {
+                -base[q]
+            };
+        }
+        self.capacitance.solve(&mut z[..m]);
+        out.copy_from_slice(base);
+        for (t, &zt) in z[..m].iter().enumerate() {
+            let w = &self.special_cols[t * n..t * n + k];
+            for (x, &wi) in out.iter_mut().zip(w) {
+                *x += zt * wi;
+            }
+        }
+        self.coef = z;
+        for &q in &self.special {
+            if self.roles[q] == Role::Pinned {
+                out[q] = 0.0;
+            }
+        }
+        out.iter().all(|x| x.is_finite())
     }
 
     /// `x = M_SS^-1 b` with `b` given per node by `rhs(node, sign)`; the
     /// result goes to `out` by node (other nodes untouched).
     #[cfg(test)]
     pub(crate) fn solve(&mut self, rhs: impl Fn(usize, f64) -> f64, out: &mut [f64]) -> bool {
-        self.flush();
-        let (n, k) = (self.ld, self.len());
-        for (j, bj) in self.w[..k].iter_mut().enumerate() {
-            *bj = rhs(self.nodes[j], self.signs[j]);
+        let k = self.nodes.len();
+        let mut x = vec![0.0; self.n];
+        for (p, xp) in x[..k].iter_mut().enumerate() {
+            *xp = rhs(self.nodes[p], self.signs[p]);
         }
-        let x = &mut self.v[..k];
         if k > 0 {
-            let x_out = MatMut::from_column_major_slice_mut(x, k, 1);
-            let b = column(&self.w[..k]);
-            matmul(
-                x_out,
-                Accum::Replace,
-                block(&self.inv, k, n),
-                b,
-                1.0,
-                Par::Seq,
-            );
+            self.solve_base(&mut x);
         }
-        let x = &self.v[..k];
+        let mut sol = x.clone();
+        if !self.special.is_empty() {
+            for (t, &q) in self.special.iter().enumerate() {
+                let (node, s) = (self.nodes[q], self.signs[q]);
+                self.coef[t] = rhs(node, -s) - rhs(node, s);
+            }
+            assert!(self.factor_capacitance());
+            if !self.apply_correction(&x[..k], &mut sol[..k]) {
+                return false;
+            }
+        }
         let mut finite = true;
-        for (&node, &xi) in self.nodes.iter().zip(x.iter()) {
-            finite &= xi.is_finite();
-            out[node] = xi;
+        for p in 0..k {
+            if self.roles[p] != Role::Pinned {
+                finite &= sol[p].is_finite();
+                out[self.nodes[p]] = sol[p];
+            }
         }
         finite
     }
@@ -900,8 +1022,12 @@ impl SetInverse {
     #[cfg(test)]
     fn directions(&self) -> Vec<SlipDirection> {
         let mut d = vec![SlipDirection::Stick; self.n];
-        for (&node, &sign) in self.nodes.iter().zip(&self.signs) {
-            d[node] = SlipDirection::from_sign(sign);
+        for (p, &node) in self.nodes.iter().enumerate() {
+            match self.roles[p] {
+                Role::Active => d[node] = SlipDirection::from_sign(self.signs[p]),
+                Role::Reversed => d[node] = SlipDirection::from_sign(-self.signs[p]),
+                Role::Pinned => {}
+            }
         }
         d
     }
@@ -909,10 +1035,11 @@ impl SetInverse {
     /// The set as `(node, sign)` in position order.
     #[cfg(test)]
     fn set(&self) -> Vec<(usize, f64)> {
+        let d = self.directions();
         self.nodes
             .iter()
-            .copied()
-            .zip(self.signs.iter().copied())
+            .filter(|&&j| d[j].is_slipping())
+            .map(|&j| (j, d[j].sign()))
             .collect()
     }
 }
@@ -980,57 +1107,93 @@ mod tests {
         }
     }
 
-    /// `v = B c`, `w = B^T r` of [`fused_products`] against faer's two
-    /// products, for sizes around the groups of four, a stride wider than
-    /// the block, and the narrow kernel against the dispatched one bit for
-    /// bit.
+    /// The triangular passes against plain substitution, for sizes around
+    /// the blocks of four and a stride wider than the block, and the
+    /// dispatched kernels against the narrow ones bit for bit.
     #[test]
-    fn fused_products_match_two_products_on_every_instruction_set() {
-        let value = |i: usize, j: usize| ((i * 31 + j * 17) % 23) as f64 / 7.0 - 1.5;
+    fn triangular_passes_match_substitution_on_every_instruction_set() {
+        let value = |i: usize, j: usize| ((i * 31 + j * 17) % 23) as f64 / 23.0 - 0.5;
         for k in [1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 63, 130] {
             let ld = k + 5;
-            let b: Vec<f64> = (0..ld * k).map(|e| value(e % ld, e / ld)).collect();
+            // Unit L below the diagonal, U with a dominant diagonal.
+            let lu: Vec<f64> = (0..ld * k)
+                .map(|e| {
+                    let (i, j) = (e % ld, e / ld);
+                    if i == j {
+                        3.0 + value(i, j)
+                    } else {
+                        value(i, j) / 4.0
+                    }
+                })
+                .collect();
+            let recip: Vec<f64> = (0..k).map(|j| 1.0 / lu[j * ld + j]).collect();
+            let at = |i: usize, j: usize| lu[j * ld + i];
             let c: Vec<f64> = (0..k).map(|i| (i as f64 * 0.7).sin()).collect();
             let r: Vec<f64> = (0..k).map(|i| (i as f64 * 0.3).cos() - 0.2).collect();
-            let (mut v, mut w) = (vec![f64::NAN; k], vec![f64::NAN; k]);
-            fused_products(&b, ld, k, &c, &r, &mut v, &mut w);
-            let block =
-                MatRef::from_column_major_slice_with_stride(&b[..(k - 1) * ld + k], k, k, ld);
-            let (mut v0, mut w0) = (vec![0.0; k], vec![0.0; k]);
-            let out = MatMut::from_column_major_slice_mut(&mut v0, k, 1);
-            matmul(out, Accum::Replace, block, column(&c), 1.0, Par::Seq);
-            let out = MatMut::from_column_major_slice_mut(&mut w0, k, 1);
-            matmul(
-                out,
-                Accum::Replace,
-                block.transpose(),
-                column(&r),
-                1.0,
-                Par::Seq,
-            );
+            // Plain substitution: u = L^-1 c, l = U^-T r, x = U^-1 c.
+            let mut u0 = c.clone();
             for i in 0..k {
-                assert!(
-                    (v[i] - v0[i]).abs() < 1e-12 * (1.0 + v0[i].abs()),
-                    "k {k}: v[{i}]"
-                );
-                assert!(
-                    (w[i] - w0[i]).abs() < 1e-12 * (1.0 + w0[i].abs()),
-                    "k {k}: w[{i}]"
-                );
+                for j in 0..i {
+                    u0[i] -= at(i, j) * u0[j];
+                }
             }
-            let (mut v1, mut w1) = (vec![f64::NAN; k], vec![f64::NAN; k]);
-            fused_narrow(Fused {
-                b: &b,
+            let mut l0 = vec![0.0; k];
+            for j in 0..k {
+                let s: f64 = (0..j).map(|i| at(i, j) * l0[i]).sum();
+                l0[j] = (r[j] - s) / at(j, j);
+            }
+            let mut x0 = c.clone();
+            for i in (0..k).rev() {
+                for j in i + 1..k {
+                    x0[i] -= at(i, j) * x0[j];
+                }
+                x0[i] /= at(i, i);
+            }
+            let f = Factors {
+                lu: &lu,
+                recip: &recip,
                 ld,
                 k,
-                c: &c,
-                r: &r,
-                v: &mut v1,
-                w: &mut w1,
-            });
+            };
+            let close = |a: &[f64], b: &[f64], what: &str| {
+                for i in 0..k {
+                    assert!(
+                        (a[i] - b[i]).abs() < 1e-12 * (1.0 + b[i].abs()),
+                        "k {k}: {what}[{i}]"
+                    );
+                }
+            };
             let bits = |x: &[f64]| x.iter().map(|e| e.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&v1), bits(&v), "k {k}: B c");
-            assert_eq!(bits(&w1), bits(&w), "k {k}: B^T r");
+            let run = |pass: Pass<'_>, narrow: bool| {
+                let t = Triangular { f, pass };
+                if narrow {
+                    t.run(Narrow);
+                } else {
+                    pulp::Arch::new().dispatch(t);
+                }
+            };
+            let mut outs = Vec::new();
+            for narrow in [false, true] {
+                let (mut u, mut l) = (c.clone(), vec![f64::NAN; k]);
+                run(
+                    Pass::Border {
+                        u: &mut u,
+                        r: &r,
+                        l: &mut l,
+                    },
+                    narrow,
+                );
+                close(&u, &u0, "L^-1 c");
+                close(&l, &l0, "U^-T r");
+                let mut x = c.clone();
+                run(Pass::Upper { y: &mut x }, narrow);
+                close(&x, &x0, "U^-1 c");
+                let mut y = c.clone();
+                run(Pass::Lower { y: &mut y, from: 0 }, narrow);
+                close(&y, &u0, "L^-1 c (lower)");
+                outs.push([bits(&u), bits(&l), bits(&x), bits(&y)]);
+            }
+            assert_eq!(outs[0], outs[1], "k {k}: wide and narrow differ");
         }
     }
 
@@ -1080,11 +1243,12 @@ mod tests {
     }
 
     #[test]
-    fn long_runs_of_updates_with_pending_terms_match_the_system() {
+    fn long_runs_of_updates_with_pinned_and_reversed_nodes_match_the_system() {
         // A slip zone that grows one node at a time, as an advancing slip
         // zone does, with a node leaving now and then and the end node
-        // reversing: every change an update, with terms pending, added to
-        // the inverse and the inverse moved to a wider stride on the way.
+        // reversing: nearly every change an update, with pinned and reversed
+        // nodes in the correction and the factors moved to a wider stride
+        // on the way.
         let n = 256;
         let f = 0.3;
         let ops = Operators::new(n);
@@ -1096,7 +1260,7 @@ mod tests {
         inv.set_loads([&loads[0], &loads[1], &loads[2], &loads[3]]);
         let mut d = dirs(n, &[(100, 140, 1.0)]);
         assert!(update(&mut inv, &ops, f, &d));
-        let mut pending = 0;
+        let mut special = 0;
         let mut wider = 0;
         let (forward, backward) = (
             SlipDirection::from_sign(1.0),
@@ -1116,7 +1280,7 @@ mod tests {
             }
             let stride = inv.ld;
             assert!(update(&mut inv, &ops, f, &d));
-            pending = pending.max(inv.terms);
+            special = special.max(inv.special.len());
             wider += usize::from(inv.ld > stride);
             if step % 10 == 9 || flipped {
                 assert_eq!(inv.directions(), d);
@@ -1125,7 +1289,9 @@ mod tests {
                 assert!(r < 1e-10, "residual {r} at step {step}");
             }
         }
-        assert_eq!(inv.rebuilds, 1, "every change an update");
-        assert!(pending > 1 && wider > 0, "pending {pending}, wider {wider}");
+        // The correction holds a few nodes (`special_limit`), so the 13
+        // pinned and 8 reversed nodes make a few factorisations.
+        assert!(inv.rebuilds <= 6, "{} factorisations", inv.rebuilds);
+        assert!(special > 1 && wider > 0, "special {special}, wider {wider}");
     }
 }

@@ -20,7 +20,7 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::factor::{lu_in_place, lu_in_place_scratch};
-use faer::linalg::lu::partial_pivoting::solve::{solve_in_place, solve_in_place_scratch};
+use faer::linalg::lu::partial_pivoting::solve::solve_in_place_scratch;
 use faer::{MatMut, Par};
 
 use super::operators::Operators;
@@ -81,6 +81,12 @@ impl DenseLu {
         );
     }
 
+    /// The row permutation of the last factorisation of a `k x k` matrix:
+    /// row `i` of the factors is row `perm[i]` of the matrix.
+    pub(super) fn perm(&self, k: usize) -> &[usize] {
+        &self.perm[..k]
+    }
+
     /// Overwrite `rhs` (length `dim`) with the solution: `P A = L U`, so
     /// `x = U^-1 L^-1 P b`, by column-oriented substitution (one vector:
     /// the blocked solve of the library costs more than the flops here).
@@ -115,33 +121,6 @@ impl DenseLu {
         rhs[..k].copy_from_slice(x);
     }
 
-    /// The inverse of the factorised matrix into the first `dim` rows and
-    /// columns of `out`, column-major with stride `stride`: the library's
-    /// blocked solve with the identity as `dim` right-hand sides. (Its
-    /// triangular inversions need fewer flops, but at the sizes of a slip
-    /// set, tens of nodes, their recursion costs more than the flops: the
-    /// solve makes the Fig. 3 map 2.3 % cheaper in instructions.)
-    pub(super) fn inverse_into(&mut self, out: &mut [f64], stride: usize) {
-        let k = self.dim;
-        if k == 0 {
-            return;
-        }
-        let lu = faer::MatRef::from_column_major_slice(&self.lu[..k * k], k, k);
-        let perm = faer::perm::PermRef::new_checked(&self.perm[..k], &self.perm_inv[..k], k);
-        let mut out = MatMut::from_column_major_slice_with_stride_mut(
-            &mut out[..(k - 1) * stride + k],
-            k,
-            k,
-            stride,
-        );
-        for j in 0..k {
-            for i in 0..k {
-                out[(i, j)] = if i == j { 1.0 } else { 0.0 };
-            }
-        }
-        solve_in_place(lu, lu, perm, out, Par::Seq, MemStack::new(&mut self.stack));
-    }
-
     /// The library's solve, for checking [`DenseLu::solve`].
     #[cfg(test)]
     fn solve_reference(&mut self, rhs: &mut [f64]) {
@@ -149,7 +128,14 @@ impl DenseLu {
         let lu = faer::MatRef::from_column_major_slice(&self.lu[..k * k], k, k);
         let perm = faer::perm::PermRef::new_checked(&self.perm[..k], &self.perm_inv[..k], k);
         let rhs = MatMut::from_column_major_slice_mut(&mut rhs[..k], k, 1);
-        solve_in_place(lu, lu, perm, rhs, Par::Seq, MemStack::new(&mut self.stack));
+        faer::linalg::lu::partial_pivoting::solve::solve_in_place(
+            lu,
+            lu,
+            perm,
+            rhs,
+            Par::Seq,
+            MemStack::new(&mut self.stack),
+        );
     }
 }
 
