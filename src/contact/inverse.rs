@@ -77,12 +77,11 @@ fn special_limit(k: usize) -> usize {
 trait Lanes: Copy {
     /// `y -= a x`.
     fn axpy(self, y: &mut [f64], x: &[f64], a: f64);
-    /// `y -= a_0 x_0 + a_1 x_1 + a_2 x_2 + a_3 x_3`, in that order, from
-    /// the first entry to the last.
-    fn axpy4(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4]);
-    /// [`Lanes::axpy4`] from the last entry to the first (the same numbers),
-    /// so that a back substitution has its next unknowns first.
-    fn axpy4_down(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4]);
+    /// `y -= a_0 x_0 + a_1 x_1 + a_2 x_2 + a_3 x_3`, in that order at each
+    /// entry, from the first entry to the last or, if `down`, from the
+    /// last to the first (the same numbers: a back substitution then has
+    /// its next unknowns first).
+    fn axpy4(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4], down: bool);
     /// `a_t . b` for four columns `a_t`, each in four lanes added as
     /// `(l0 + l1) + (l2 + l3)`, then the entries past the last group of
     /// four.
@@ -126,7 +125,7 @@ impl<S: pulp::Simd> Lanes for Wide<S> {
     }
 
     #[inline(always)]
-    fn axpy4(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4]) {
+    fn axpy4(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4], down: bool) {
         let simd = self.0;
         let m = y.len();
         let x = x.map(|c| S::as_simd_f64s(&c[..m]));
@@ -139,38 +138,21 @@ impl<S: pulp::Simd> Lanes for Wide<S> {
             .zip(x[1].0)
             .zip(x[2].0)
             .zip(x[3].0);
-        for ((((yv, &x0), &x1), &x2), &x3) in rows {
-            let acc = simd.mul_add_e_f64s(x0, na[0], *yv);
-            let acc = simd.mul_add_e_f64s(x1, na[1], acc);
-            let acc = simd.mul_add_e_f64s(x2, na[2], acc);
-            *yv = simd.mul_add_e_f64s(x3, na[3], acc);
-        }
-        for (i, yv) in yt.iter_mut().enumerate() {
-            *yv = axpy4_entry(*yv, x.map(|c| c.1[i]), a);
-        }
-    }
-
-    #[inline(always)]
-    fn axpy4_down(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4]) {
-        let simd = self.0;
-        let m = y.len();
-        let x = x.map(|c| S::as_simd_f64s(&c[..m]));
-        let (yh, yt) = S::as_mut_simd_f64s(y);
-        for (i, yv) in yt.iter_mut().enumerate().rev() {
-            *yv = axpy4_entry(*yv, x.map(|c| c.1[i]), a);
-        }
-        let na = a.map(|t| simd.splat_f64s(-t));
-        let rows = yh
-            .iter_mut()
-            .zip(x[0].0)
-            .zip(x[1].0)
-            .zip(x[2].0)
-            .zip(x[3].0);
-        for ((((yv, &x0), &x1), &x2), &x3) in rows.rev() {
-            let acc = simd.mul_add_e_f64s(x0, na[0], *yv);
-            let acc = simd.mul_add_e_f64s(x1, na[1], acc);
-            let acc = simd.mul_add_e_f64s(x2, na[2], acc);
-            *yv = simd.mul_add_e_f64s(x3, na[3], acc);
+        type Row<'r, V> = ((((&'r mut V, &'r V), &'r V), &'r V), &'r V);
+        let row = |((((yv, x0), x1), x2), x3): Row<'_, S::f64s>| {
+            let acc = simd.mul_add_e_f64s(*x0, na[0], *yv);
+            let acc = simd.mul_add_e_f64s(*x1, na[1], acc);
+            let acc = simd.mul_add_e_f64s(*x2, na[2], acc);
+            *yv = simd.mul_add_e_f64s(*x3, na[3], acc);
+        };
+        let tail = yt.iter_mut().enumerate();
+        let last = |(i, yv): (usize, &mut f64)| *yv = axpy4_entry(*yv, x.map(|c| c.1[i]), a);
+        if down {
+            tail.rev().for_each(last);
+            rows.rev().for_each(row);
+        } else {
+            rows.for_each(row);
+            tail.for_each(last);
         }
     }
 
@@ -209,16 +191,12 @@ impl Lanes for Narrow {
     }
 
     #[inline(always)]
-    fn axpy4(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4]) {
-        for (i, yv) in y.iter_mut().enumerate() {
-            *yv = axpy4_entry(*yv, x.map(|c| c[i]), a);
-        }
-    }
-
-    #[inline(always)]
-    fn axpy4_down(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4]) {
-        for (i, yv) in y.iter_mut().enumerate().rev() {
-            *yv = axpy4_entry(*yv, x.map(|c| c[i]), a);
+    fn axpy4(self, y: &mut [f64], x: [&[f64]; 4], a: [f64; 4], down: bool) {
+        let entry = |(i, yv): (usize, &mut f64)| *yv = axpy4_entry(*yv, x.map(|c| c[i]), a);
+        if down {
+            y.iter_mut().enumerate().rev().for_each(entry);
+        } else {
+            y.iter_mut().enumerate().for_each(entry);
         }
     }
 
@@ -331,7 +309,7 @@ impl Triangular<'_> {
                     }
                     // The rows above it, four columns at once.
                     let a = std::array::from_fn(|t| if t < w { y[jb + t] } else { 0.0 });
-                    lanes.axpy4_down(&mut y[..jb], cols.map(|c| &c[..jb]), a);
+                    lanes.axpy4(&mut y[..jb], cols.map(|c| &c[..jb]), a, true);
                     end = jb;
                 }
             }
@@ -357,7 +335,7 @@ impl Triangular<'_> {
                         }
                     }
                     let a = std::array::from_fn(|t| if t < w { u[jb + t] } else { 0.0 });
-                    lanes.axpy4(&mut u[jb + w..k], cols.map(|c| &c[jb + w..k]), a);
+                    lanes.axpy4(&mut u[jb + w..k], cols.map(|c| &c[jb + w..k]), a, false);
                 }
             }
         }
@@ -1067,6 +1045,22 @@ mod tests {
         d
     }
 
+    /// The operators of `n` nodes and a solver given elastic tractions per
+    /// unit load (any smooth shapes will do): `shape(j, a * scale)` for
+    /// `a = 1..4` as `p_x`, `q_x`, `p_y`, `q_y`.
+    fn loaded(
+        n: usize,
+        shape: impl Fn(usize, f64) -> f64,
+        scale: f64,
+    ) -> (Operators, SetInverse, Vec<Vec<f64>>) {
+        let mut inv = SetInverse::new(n);
+        let loads: Vec<Vec<f64>> = (1..=4)
+            .map(|a| (0..n).map(|j| shape(j, f64::from(a) * scale)).collect())
+            .collect();
+        inv.set_loads([&loads[0], &loads[1], &loads[2], &loads[3]]);
+        (Operators::new(n), inv, loads)
+    }
+
     /// `M_SS x` for the set of `inv`, against the right-hand side.
     fn residual(ops: &Operators, f: f64, inv: &mut SetInverse, n: usize) -> f64 {
         let rhs = |node: usize, s: f64| ((node * 37 % 11) as f64 - 5.0) / 7.0 + s;
@@ -1201,14 +1195,8 @@ mod tests {
     fn updates_match_the_system() {
         let n = 64;
         let f = 0.1;
-        let ops = Operators::new(n);
-        let mut inv = SetInverse::new(n);
-        // Elastic tractions per unit load: any smooth shapes will do.
         let shape = |j: usize, a: f64| (j as f64 * a).sin() + 0.3 * (j as f64 * 0.7).cos();
-        let loads: Vec<Vec<f64>> = (1..=4)
-            .map(|a| (0..n).map(|j| shape(j, f64::from(a) * 0.37)).collect())
-            .collect();
-        inv.set_loads([&loads[0], &loads[1], &loads[2], &loads[3]]);
+        let (ops, mut inv, loads) = loaded(n, shape, 0.37);
         let steps: Vec<Vec<(usize, usize, f64)>> = vec![
             vec![(10, 40, 1.0)],
             vec![(10, 41, 1.0)],
@@ -1251,13 +1239,8 @@ mod tests {
         // on the way.
         let n = 256;
         let f = 0.3;
-        let ops = Operators::new(n);
-        let mut inv = SetInverse::new(n);
         let shape = |j: usize, a: f64| (j as f64 * a).cos() - 0.2 * (j as f64 * 0.3).sin();
-        let loads: Vec<Vec<f64>> = (1..=4)
-            .map(|a| (0..n).map(|j| shape(j, f64::from(a) * 0.21)).collect())
-            .collect();
-        inv.set_loads([&loads[0], &loads[1], &loads[2], &loads[3]]);
+        let (ops, mut inv, loads) = loaded(n, shape, 0.21);
         let mut d = dirs(n, &[(100, 140, 1.0)]);
         assert!(update(&mut inv, &ops, f, &d));
         let mut special = 0;
@@ -1315,13 +1298,8 @@ mod tests {
             ),
         ) {
             let n = 48;
-            let ops = Operators::new(n);
-            let mut inv = SetInverse::new(n);
             let shape = |j: usize, a: f64| (j as f64 * a).sin() + 0.4 * (j as f64 * 0.9).cos();
-            let loads: Vec<Vec<f64>> = (1..=4)
-                .map(|a| (0..n).map(|j| shape(j, f64::from(a) * 0.29)).collect())
-                .collect();
-            inv.set_loads([&loads[0], &loads[1], &loads[2], &loads[3]]);
+            let (ops, mut inv, loads) = loaded(n, shape, 0.29);
             let mut d = vec![SlipDirection::Stick; n];
             for j in start..start + 12 {
                 d[j % n] = SlipDirection::Forward;
