@@ -610,18 +610,14 @@ impl SetInverse {
             self.changed = changed;
             return self.rebuild(ops, friction, target);
         }
-        let mut ok = true;
         for &(p, role) in &changed {
             self.set_role(ops, p, role);
         }
         self.changed = changed;
-        for &(j, sign) in set {
-            if self.pos[j] == NONE && !self.border(ops, j, sign) {
-                ok = false;
-                break;
-            }
-        }
-        if !ok || !self.correct() {
+        let bordered = set
+            .iter()
+            .all(|&(j, sign)| self.pos[j] != NONE || self.border(ops, j, sign));
+        if !bordered || !self.correct() {
             return self.rebuild(ops, friction, target);
         }
         self.updates += changes;
