@@ -877,11 +877,12 @@ impl SetInverse {
     /// Factorise the capacitance system of the correction and apply it to
     /// the kept solutions; false if it is singular to working precision.
     fn correct(&mut self) -> bool {
-        if self.special.is_empty() {
+        // Without loads there are no kept solutions to correct.
+        if self.special.is_empty() || self.loads.is_none() {
             return true;
         }
-        if !self.factor_capacitance() || self.loads.is_none() {
-            return self.loads.is_none();
+        if !self.factor_capacitance() {
+            return false;
         }
         let k = self.nodes.len();
         for d in 0..2 {
