@@ -11,13 +11,11 @@
 //! * **a node `a` enters** with sign `s_a`: `A` is bordered by its column
 //!   `c = M_Sa` and row `r = M_aS`. With `P A = L U`, the bordered LU has
 //!   the new row `l = U^-T r` of `L`, the new column `u = L^-1 P c` of `U`
-//!   and the pivot `sigma = M_aa - l . u` (the Schur complement), both
-//!   triangular solves in one pass over the factors ([`border_pass`]); one
-//!   more pass gives `v = A^-1 c = U^-1 u`, which moves the kept solutions:
-//!   the entering node's rate is `xi = (b_a - r . x) / sigma` and the
-//!   others move by `-xi v`. Three half passes over a triangle, `1.5 k^2`
-//!   multiply-adds, where an explicit inverse needs `3 k^2` (two products
-//!   with it and a rank-one update of it).
+//!   and the pivot `sigma = M_aa - l . u` (the Schur complement); and
+//!   `v = A^-1 c = U^-1 u` moves the kept solutions: the entering node's
+//!   rate is `xi = (b_a - r . x) / sigma` and the others move by `-xi v`.
+//!   `1.5 k^2` multiply-adds, where an explicit inverse of `A` needs `3 k^2`
+//!   (two products with it and a rank-one update of it).
 //! * **a node of `A` sticks**: it stays in `A`, *pinned*. Its slip is held
 //!   at 0 and its row is dropped, by a multiplier on its row;
 //! * **a node of `A` reverses**: its row in the current matrix is that of
@@ -37,6 +35,18 @@
 //! grows past a few nodes, and after a number of changes proportional to
 //! `k`, so the round-off that the updates accumulate stays bounded and the
 //! amortised cost stays `O(k^2)`.
+//!
+//! The factors are kept as `L` and `W = U^-1` (not `U`), packed in one
+//! square array: `L` below the diagonal, `W` on and above it. Then
+//! `l = W^T r` and `v = W u` are products, not substitutions, and all
+//! three come from one pass over the array, column by column
+//! ([`border_pass`]): column `j` of `L` finishes `u_j`, and column `j` of
+//! `W` gives `l_j` and takes `u_j` into `v`. The array is read once per
+//! entry instead of one and a half times, which is what an entry costs at
+//! `N = 1024`, where the factors do not fit in the cache. `W` gains the
+//! column `(-v / sigma, 1 / sigma)` at a bordering, and is computed from
+//! `U` at a rebuild (faer's triangular inverse, `k^3 / 6` multiply-adds
+//! beside the `k^3 / 3` of the LU).
 
 use super::operators::Operators;
 use super::reduced::DenseLu;
@@ -86,6 +96,11 @@ trait Lanes: Copy {
     /// `(l0 + l1) + (l2 + l3)`, then the entries past the last group of
     /// four.
     fn dot4(self, a: [&[f64]; 4], b: &[f64]) -> [f64; 4];
+    /// [`Lanes::dot4`] of the columns `a` with `b` and, in the same pass
+    /// over them, [`Lanes::axpy4`] of them into `y` (upward), each with the
+    /// numbers the two would give apart: the columns are read once for
+    /// both.
+    fn dot4_axpy4(self, a: [&[f64]; 4], b: &[f64], y: &mut [f64], c: [f64; 4]) -> [f64; 4];
 }
 
 #[derive(Clone, Copy)]
@@ -101,6 +116,16 @@ fn axpy4_entry(y: f64, x: [f64; 4], a: [f64; 4]) -> f64 {
     let y = x[1].mul_add(-a[1], y);
     let y = x[2].mul_add(-a[2], y);
     x[3].mul_add(-a[3], y)
+}
+
+/// One vector of [`Lanes::axpy4`]: `y + x_0 na_0 + ... + x_3 na_3` in that
+/// order (`na` the negated weights).
+#[inline(always)]
+fn fma4<S: pulp::Simd>(simd: S, y: S::f64s, x: [S::f64s; 4], na: [S::f64s; 4]) -> S::f64s {
+    let acc = simd.mul_add_e_f64s(x[0], na[0], y);
+    let acc = simd.mul_add_e_f64s(x[1], na[1], acc);
+    let acc = simd.mul_add_e_f64s(x[2], na[2], acc);
+    simd.mul_add_e_f64s(x[3], na[3], acc)
 }
 
 /// The lanes of a [`Lanes::dot4`] product and its tail, added.
@@ -131,28 +156,38 @@ impl<S: pulp::Simd> Lanes for Wide<S> {
         let x = x.map(|c| S::as_simd_f64s(&c[..m]));
         let (yh, yt) = S::as_mut_simd_f64s(y);
         let na = a.map(|t| simd.splat_f64s(-t));
-        // Zipped, not indexed: no bounds check in the loop.
+        // Plain `for` loops over zips, no closures: a closure or an
+        // iterator's `fold` is not always inlined, and out of line the
+        // intrinsics lose their instruction set.
         let rows = yh
             .iter_mut()
             .zip(x[0].0)
             .zip(x[1].0)
             .zip(x[2].0)
             .zip(x[3].0);
-        type Row<'r, V> = ((((&'r mut V, &'r V), &'r V), &'r V), &'r V);
-        let row = |((((yv, x0), x1), x2), x3): Row<'_, S::f64s>| {
-            let acc = simd.mul_add_e_f64s(*x0, na[0], *yv);
-            let acc = simd.mul_add_e_f64s(*x1, na[1], acc);
-            let acc = simd.mul_add_e_f64s(*x2, na[2], acc);
-            *yv = simd.mul_add_e_f64s(*x3, na[3], acc);
-        };
-        let tail = yt.iter_mut().enumerate();
-        let last = |(i, yv): (usize, &mut f64)| *yv = axpy4_entry(*yv, x.map(|c| c.1[i]), a);
+        let (tails, t) = (x.map(|c| c.1), yt.len());
         if down {
-            tail.rev().for_each(last);
-            rows.rev().for_each(row);
+            for i in (0..t).rev() {
+                yt[i] = axpy4_entry(
+                    yt[i],
+                    [tails[0][i], tails[1][i], tails[2][i], tails[3][i]],
+                    a,
+                );
+            }
+            for ((((yv, &x0), &x1), &x2), &x3) in rows.rev() {
+                *yv = fma4(simd, *yv, [x0, x1, x2, x3], na);
+            }
         } else {
-            rows.for_each(row);
-            tail.for_each(last);
+            for ((((yv, &x0), &x1), &x2), &x3) in rows {
+                *yv = fma4(simd, *yv, [x0, x1, x2, x3], na);
+            }
+            for i in 0..t {
+                yt[i] = axpy4_entry(
+                    yt[i],
+                    [tails[0][i], tails[1][i], tails[2][i], tails[3][i]],
+                    a,
+                );
+            }
         }
     }
 
@@ -176,6 +211,43 @@ impl<S: pulp::Simd> Lanes for Wide<S> {
             let mut tail = 0.0f64;
             for (&x, &y) in a[t].1.iter().zip(bt) {
                 tail = x.mul_add(y, tail);
+            }
+            lane_sum(l, tail)
+        })
+    }
+
+    #[inline(always)]
+    fn dot4_axpy4(self, a: [&[f64]; 4], b: &[f64], y: &mut [f64], c: [f64; 4]) -> [f64; 4] {
+        let simd = self.0;
+        let m = b.len();
+        let a = a.map(|col| S::as_simd_f64s(&col[..m]));
+        let (bh, bt) = S::as_simd_f64s(b);
+        let (yh, yt) = S::as_mut_simd_f64s(&mut y[..m]);
+        let nc = c.map(|t| simd.splat_f64s(-t));
+        let mut d = [simd.splat_f64s(0.0); 4];
+        let rows = yh
+            .iter_mut()
+            .zip(bh)
+            .zip(a[0].0)
+            .zip(a[1].0)
+            .zip(a[2].0)
+            .zip(a[3].0);
+        for (((((yv, &bv), &a0), &a1), &a2), &a3) in rows {
+            d[0] = simd.mul_add_e_f64s(a0, bv, d[0]);
+            d[1] = simd.mul_add_e_f64s(a1, bv, d[1]);
+            d[2] = simd.mul_add_e_f64s(a2, bv, d[2]);
+            d[3] = simd.mul_add_e_f64s(a3, bv, d[3]);
+            *yv = fma4(simd, *yv, [a0, a1, a2, a3], nc);
+        }
+        for (i, yv) in yt.iter_mut().enumerate() {
+            *yv = axpy4_entry(*yv, [a[0].1[i], a[1].1[i], a[2].1[i], a[3].1[i]], c);
+        }
+        std::array::from_fn(|t| {
+            let mut l = [0.0f64; 4];
+            l.copy_from_slice(pulp::bytemuck::cast_slice(std::slice::from_ref(&d[t])));
+            let mut tail = 0.0f64;
+            for (&x, &z) in a[t].1.iter().zip(bt) {
+                tail = x.mul_add(z, tail);
             }
             lane_sum(l, tail)
         })
@@ -220,31 +292,37 @@ impl Lanes for Narrow {
             lane_sum(l, tail)
         })
     }
+
+    #[inline(always)]
+    fn dot4_axpy4(self, a: [&[f64]; 4], b: &[f64], y: &mut [f64], c: [f64; 4]) -> [f64; 4] {
+        let d = self.dot4(a, b);
+        self.axpy4(&mut y[..b.len()], a, c, false);
+        d
+    }
 }
 
-/// A triangular pass over the factors `P A = L U` (`k x k`, column stride
-/// `ld`: `L` strictly below the diagonal with a unit diagonal, `U` on and
-/// above it), dispatched once to the widest [`Lanes`].
+/// A pass over the factors of the base (`k x k`, column stride `ld`):
+/// `L` of `P A = L U` strictly below the diagonal (unit diagonal) and
+/// `W = U^-1` on and above it, dispatched once to the widest [`Lanes`].
 enum Pass<'a> {
     /// `y = L^-1 y`, `y` zero above row `from`.
     Lower { y: &'a mut [f64], from: usize },
-    /// `y = U^-1 y`.
-    Upper { y: &'a mut [f64] },
+    /// `y = W y = U^-1 y`.
+    Inverse { y: &'a mut [f64] },
     /// [`border_pass`].
     Border {
         u: &'a mut [f64],
         r: &'a [f64],
         l: &'a mut [f64],
+        v: &'a mut [f64],
     },
 }
 
-/// The factors `P A = L U` of the base (`k x k`, column stride `ld`) and
-/// the reciprocals of the diagonal of `U` (a multiplication waits less
-/// than a division, and a pass waits on each).
+/// The factors of the base: `L` and `W = U^-1` packed in one `k x k`
+/// array of column stride `ld` (see [`Pass`]).
 #[derive(Clone, Copy)]
 struct Factors<'a> {
     lu: &'a [f64],
-    recip: &'a [f64],
     ld: usize,
     k: usize,
 }
@@ -277,10 +355,43 @@ fn columns(lu: &[f64], ld: usize, k: usize, jb: usize, w: usize) -> [&[f64]; 4] 
     })
 }
 
+/// The block's own entries, `b[i][t]` at row `jb + i` and column
+/// `jb + t`, zero outside its `w x w` square; and the matching entries of a
+/// vector. Fixed sizes, so that the small triangles below unroll.
+#[inline(always)]
+fn block(cols: [&[f64]; 4], jb: usize, w: usize) -> [[f64; 4]; 4] {
+    let mut b = [[0.0; 4]; 4];
+    for t in 0..w {
+        for (i, row) in b.iter_mut().enumerate().take(w) {
+            row[t] = cols[t][jb + i];
+        }
+    }
+    b
+}
+
+#[inline(always)]
+fn block_of(x: &[f64], jb: usize, w: usize) -> [f64; 4] {
+    let mut b = [0.0; 4];
+    b[..w].copy_from_slice(&x[jb..jb + w]);
+    b
+}
+
+/// `W x` over the block's own upper triangle: `sum_(t >= i) b[i][t] x[t]`.
+#[inline(always)]
+fn block_upper(b: &[[f64; 4]; 4], x: [f64; 4]) -> [f64; 4] {
+    let mut y = [0.0; 4];
+    for i in 0..4 {
+        for t in i..4 {
+            y[i] = b[i][t].mul_add(x[t], y[i]);
+        }
+    }
+    y
+}
+
 impl Triangular<'_> {
     #[inline(always)]
     fn run<V: Lanes>(self, lanes: V) {
-        let Factors { lu, recip, ld, k } = self.f;
+        let Factors { lu, ld, k } = self.f;
         match self.pass {
             Pass::Lower { y, from } => {
                 // Column-oriented: column j of L is contiguous. (Only for
@@ -293,49 +404,54 @@ impl Triangular<'_> {
                     }
                 }
             }
-            Pass::Upper { y } => {
-                let mut end = k;
-                while end > 0 {
-                    let jb = end.saturating_sub(4);
-                    let w = end - jb;
-                    let cols = columns(lu, ld, k, jb, w);
-                    // The block's own triangle, last column first.
-                    for t in (0..w).rev() {
-                        let yt = y[jb + t] * recip[jb + t];
-                        y[jb + t] = yt;
-                        for i in 0..t {
-                            y[jb + i] = cols[t][jb + i].mul_add(-yt, y[jb + i]);
-                        }
-                    }
-                    // The rows above it, four columns at once.
-                    let a = std::array::from_fn(|t| if t < w { y[jb + t] } else { 0.0 });
-                    lanes.axpy4(&mut y[..jb], cols.map(|c| &c[..jb]), a, true);
-                    end = jb;
-                }
-            }
-            Pass::Border { u, r, l } => {
+            Pass::Inverse { y } => {
+                // In place, four columns at a time from the first: the rows
+                // above a block have taken their earlier terms, the block's
+                // own rows still hold the input.
                 for jb in (0..k).step_by(4) {
                     let w = (k - jb).min(4);
                     let cols = columns(lu, ld, k, jb, w);
-                    // U^T l = r: the four columns' dot products with the
-                    // rows above the block, then the block's triangle.
-                    let s = lanes.dot4(cols.map(|c| &c[..jb]), &l[..jb]);
-                    for t in 0..w {
-                        let mut acc = r[jb + t] - s[t];
+                    let x = block_of(y, jb, w);
+                    lanes.axpy4(&mut y[..jb], cols.map(|c| &c[..jb]), x.map(|e| -e), false);
+                    let own = block_upper(&block(cols, jb, w), x);
+                    y[jb..jb + w].copy_from_slice(&own[..w]);
+                }
+            }
+            Pass::Border { u, r, l, v } => {
+                for jb in (0..k).step_by(4) {
+                    let w = (k - jb).min(4);
+                    let cols = columns(lu, ld, k, jb, w);
+                    let b = block(cols, jb, w);
+                    // u = L^-1 u: the block's triangle first, so that its
+                    // entries are final.
+                    let mut ub = block_of(u, jb, w);
+                    for t in 1..4 {
                         for i in 0..t {
-                            acc = cols[t][jb + i].mul_add(-l[jb + i], acc);
-                        }
-                        l[jb + t] = acc * recip[jb + t];
-                    }
-                    // u = L^-1 u: the block's triangle, then the rows
-                    // below it, four columns at once.
-                    for t in 1..w {
-                        for i in 0..t {
-                            u[jb + t] = cols[i][jb + t].mul_add(-u[jb + i], u[jb + t]);
+                            ub[t] = b[t][i].mul_add(-ub[i], ub[t]);
                         }
                     }
-                    let a = std::array::from_fn(|t| if t < w { u[jb + t] } else { 0.0 });
-                    lanes.axpy4(&mut u[jb + w..k], cols.map(|c| &c[jb + w..k]), a, false);
+                    u[jb..jb + w].copy_from_slice(&ub[..w]);
+                    // Above the block, in one pass over the columns:
+                    // l = W^T r (dot products) and v = W u (updates).
+                    let s = lanes.dot4_axpy4(
+                        cols.map(|c| &c[..jb]),
+                        &r[..jb],
+                        &mut v[..jb],
+                        ub.map(|e| -e),
+                    );
+                    // The block's own rows.
+                    let rb = block_of(r, jb, w);
+                    let mut lb = s;
+                    for (t, acc) in lb.iter_mut().enumerate() {
+                        for i in 0..=t {
+                            *acc = b[i][t].mul_add(rb[i], *acc);
+                        }
+                    }
+                    l[jb..jb + w].copy_from_slice(&lb[..w]);
+                    let vb = block_upper(&b, ub);
+                    v[jb..jb + w].copy_from_slice(&vb[..w]);
+                    // Below the block, four columns of L at once.
+                    lanes.axpy4(&mut u[jb + w..k], cols.map(|c| &c[jb + w..k]), ub, false);
                 }
             }
         }
@@ -349,13 +465,14 @@ fn triangular(f: Factors<'_>, pass: Pass<'_>) {
     }
 }
 
-/// The two triangular solves of a bordering in one pass over the factors,
-/// column by column: `u = L^-1 u` (the column of `L` below the diagonal)
-/// and `l = U^-T r` (the column of `U` above it). Reading each column once
-/// for both halves the passes over memory, which at `N = 1024` is what a
-/// bordering costs.
-fn border_pass(f: Factors<'_>, u: &mut [f64], r: &[f64], l: &mut [f64]) {
-    triangular(f, Pass::Border { u, r, l });
+/// The three products of a bordering in one pass over the factors, column
+/// by column: `u = L^-1 u` (the column of `L` below the diagonal), then
+/// `l = W^T r = U^-T r` and `v = W u = U^-1 L^-1 u` (the column of `W` on
+/// and above it). Each column is read once for all three, which at
+/// `N = 1024` is what a bordering costs: the factors do not fit in the
+/// cache, so the passes stream them from memory.
+fn border_pass(f: Factors<'_>, u: &mut [f64], r: &[f64], l: &mut [f64], v: &mut [f64]) {
+    triangular(f, Pass::Border { u, r, l, v });
 }
 
 /// `a . b` in four lanes (a single running sum would not vectorise).
@@ -398,11 +515,10 @@ pub(crate) struct SetInverse {
     /// `N` apart defeat the prefetcher).
     ld: usize,
     friction: f64,
-    /// `P A = L U`: entry `(i, j)` at `lu[j * ld + i]`, `L` strictly below
-    /// the diagonal (unit diagonal), `U` on and above it; room for `N x N`.
+    /// `P A = L U`, kept as `L` strictly below the diagonal (unit
+    /// diagonal) and `W = U^-1` on and above it: entry `(i, j)` at
+    /// `lu[j * ld + i]`; room for `N x N`.
     lu: Vec<f64>,
-    /// `1 / U_jj`.
-    recip: Vec<f64>,
     /// Row `i` of the factors is row `perm[i]` of `A`; `perm_inv` the
     /// other way.
     perm: Vec<usize>,
@@ -441,6 +557,7 @@ pub(crate) struct SetInverse {
     // Scratch.
     col: Vec<f64>,
     row: Vec<f64>,
+    u: Vec<f64>,
     v: Vec<f64>,
     l: Vec<f64>,
     coef: Vec<f64>,
@@ -467,7 +584,6 @@ impl SetInverse {
             // The N x N buffers wait for the first rebuild: a cloned or
             // never-slipping contact does not pay for them.
             lu: Vec::new(),
-            recip: vec![0.0; n],
             perm: Vec::with_capacity(n),
             perm_inv: Vec::with_capacity(n),
             nodes: Vec::with_capacity(n),
@@ -486,6 +602,7 @@ impl SetInverse {
             rebuilds: 0,
             col: vec![0.0; n],
             row: vec![0.0; n],
+            u: vec![0.0; n],
             v: vec![0.0; n],
             l: vec![0.0; n],
             coef: vec![0.0; MAX_SPECIAL],
@@ -671,19 +788,21 @@ impl SetInverse {
         }
         self.factor.factorise(k);
         for j in 0..k {
+            let d = self.factor.lu[j * k + j];
+            if d == 0.0 || !d.is_finite() {
+                return false;
+            }
+        }
+        for j in 0..k {
             self.lu[j * ld..j * ld + k].copy_from_slice(&self.factor.lu[j * k..(j + 1) * k]);
         }
+        // U inverted over itself (L below the diagonal is left as it is).
+        self.factor
+            .invert_upper(k, &mut self.lu[..(k - 1) * ld + k], ld);
         self.perm.extend_from_slice(self.factor.perm(k));
         self.perm_inv.resize(k, 0);
         for (i, &p) in self.perm.iter().enumerate() {
             self.perm_inv[p] = i;
-        }
-        for j in 0..k {
-            let d = self.lu[j * ld + j];
-            if d == 0.0 || !d.is_finite() {
-                return false;
-            }
-            self.recip[j] = 1.0 / d;
         }
         if self.loads.is_some() {
             for d in 0..2 {
@@ -712,12 +831,11 @@ impl SetInverse {
         }
         let f = Factors {
             lu: &self.lu,
-            recip: &self.recip,
             ld,
             k,
         };
         triangular(f, Pass::Lower { y, from: 0 });
-        triangular(f, Pass::Upper { y });
+        triangular(f, Pass::Inverse { y });
         x[..k].copy_from_slice(&y[..k]);
     }
 
@@ -767,12 +885,11 @@ impl SetInverse {
             y[from] = 1.0;
             let f = Factors {
                 lu: &self.lu,
-                recip: &self.recip,
                 ld,
                 k,
             };
             triangular(f, Pass::Lower { y, from });
-            triangular(f, Pass::Upper { y });
+            triangular(f, Pass::Inverse { y });
             t
         } else {
             self.special.iter().position(|&q| q == p).expect("slot")
@@ -802,18 +919,17 @@ impl SetInverse {
             self.row[i] = -dcol[node] + f * sign * hcol[node];
         }
         let d0 = Self::entry(ops, f, a, sign, a);
-        // u = L^-1 P c into v, l = U^-T r.
-        for (vi, &p) in self.v[..k].iter_mut().zip(&self.perm) {
-            *vi = self.col[p];
+        // u = L^-1 P c, l = U^-T r and v = U^-1 u = A^-1 c.
+        for (ui, &p) in self.u[..k].iter_mut().zip(&self.perm) {
+            *ui = self.col[p];
         }
         let factors = Factors {
             lu: &self.lu,
-            recip: &self.recip,
             ld: self.ld,
             k,
         };
-        border_pass(factors, &mut self.v, &self.row, &mut self.l);
-        let lu_dot = dot(&self.l[..k], &self.v[..k]);
+        border_pass(factors, &mut self.u, &self.row, &mut self.l, &mut self.v);
+        let lu_dot = dot(&self.l[..k], &self.u[..k]);
         let sigma = d0 - lu_dot;
         let scale = d0.abs().max(lu_dot.abs());
         if !sigma.is_finite() || sigma.abs() <= PIVOT_TOL * scale {
@@ -822,21 +938,16 @@ impl SetInverse {
         if k == self.ld {
             self.relayout(k + slack(k));
         }
+        // The bordered factors: row l of L, and U's new column (u, sigma)
+        // inverted, the column (-v / sigma, 1 / sigma) of W.
         let ld = self.ld;
         for (j, &lj) in self.l[..k].iter().enumerate() {
             self.lu[j * ld + k] = lj;
         }
-        self.lu[k * ld..k * ld + k].copy_from_slice(&self.v[..k]);
-        self.lu[k * ld + k] = sigma;
-        self.recip[k] = 1.0 / sigma;
-        // v = A^-1 c = U^-1 u (the first k columns).
-        let factors = Factors {
-            lu: &self.lu,
-            recip: &self.recip,
-            ld,
-            k,
-        };
-        triangular(factors, Pass::Upper { y: &mut self.v });
+        for (o, &vi) in self.lu[k * ld..k * ld + k].iter_mut().zip(&self.v[..k]) {
+            *o = -vi / sigma;
+        }
+        self.lu[k * ld + k] = 1.0 / sigma;
         let v = &self.v[..k];
         let row = &self.row[..k];
         // The correction's columns: A_new^-1 e_q = (w + v (r.w) / sigma,
@@ -1098,15 +1209,16 @@ mod tests {
         }
     }
 
-    /// The triangular passes against plain substitution, for sizes around
-    /// the blocks of four and a stride wider than the block, and the
+    /// The passes against plain substitution and products, for sizes
+    /// around the blocks of four and a stride wider than the block, and the
     /// dispatched kernels against the narrow ones bit for bit.
     #[test]
-    fn triangular_passes_match_substitution_on_every_instruction_set() {
+    fn passes_match_substitution_on_every_instruction_set() {
         let value = |i: usize, j: usize| ((i * 31 + j * 17) % 23) as f64 / 23.0 - 0.5;
         for k in [1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 63, 130] {
             let ld = k + 5;
-            // Unit L below the diagonal, U with a dominant diagonal.
+            // Unit L below the diagonal, W with a dominant diagonal on and
+            // above it.
             let lu: Vec<f64> = (0..ld * k)
                 .map(|e| {
                     let (i, j) = (e % ld, e / ld);
@@ -1117,35 +1229,27 @@ mod tests {
                     }
                 })
                 .collect();
-            let recip: Vec<f64> = (0..k).map(|j| 1.0 / lu[j * ld + j]).collect();
             let at = |i: usize, j: usize| lu[j * ld + i];
             let c: Vec<f64> = (0..k).map(|i| (i as f64 * 0.7).sin()).collect();
             let r: Vec<f64> = (0..k).map(|i| (i as f64 * 0.3).cos() - 0.2).collect();
-            // Plain substitution: u = L^-1 c, l = U^-T r, x = U^-1 c.
+            // Plain: u = L^-1 c by substitution, l = W^T r, v = W u, x = W c.
             let mut u0 = c.clone();
             for i in 0..k {
                 for j in 0..i {
                     u0[i] -= at(i, j) * u0[j];
                 }
             }
-            let mut l0 = vec![0.0; k];
-            for j in 0..k {
-                let s: f64 = (0..j).map(|i| at(i, j) * l0[i]).sum();
-                l0[j] = (r[j] - s) / at(j, j);
-            }
-            let mut x0 = c.clone();
-            for i in (0..k).rev() {
-                for j in i + 1..k {
-                    x0[i] -= at(i, j) * x0[j];
-                }
-                x0[i] /= at(i, i);
-            }
-            let f = Factors {
-                lu: &lu,
-                recip: &recip,
-                ld,
-                k,
+            let upper = |x: &[f64]| -> Vec<f64> {
+                (0..k)
+                    .map(|i| (i..k).map(|j| at(i, j) * x[j]).sum())
+                    .collect()
             };
+            let l0: Vec<f64> = (0..k)
+                .map(|j| (0..=j).map(|i| at(i, j) * r[i]).sum())
+                .collect();
+            let v0 = upper(&u0);
+            let x0 = upper(&c);
+            let f = Factors { lu: &lu, ld, k };
             let close = |a: &[f64], b: &[f64], what: &str| {
                 for i in 0..k {
                     assert!(
@@ -1165,24 +1269,26 @@ mod tests {
             };
             let mut outs = Vec::new();
             for narrow in [false, true] {
-                let (mut u, mut l) = (c.clone(), vec![f64::NAN; k]);
+                let (mut u, mut l, mut v) = (c.clone(), vec![f64::NAN; k], vec![f64::NAN; k]);
                 run(
                     Pass::Border {
                         u: &mut u,
                         r: &r,
                         l: &mut l,
+                        v: &mut v,
                     },
                     narrow,
                 );
                 close(&u, &u0, "L^-1 c");
-                close(&l, &l0, "U^-T r");
+                close(&l, &l0, "W^T r");
+                close(&v, &v0, "W L^-1 c");
                 let mut x = c.clone();
-                run(Pass::Upper { y: &mut x }, narrow);
-                close(&x, &x0, "U^-1 c");
+                run(Pass::Inverse { y: &mut x }, narrow);
+                close(&x, &x0, "W c");
                 let mut y = c.clone();
                 run(Pass::Lower { y: &mut y, from: 0 }, narrow);
                 close(&y, &u0, "L^-1 c (lower)");
-                outs.push([bits(&u), bits(&l), bits(&x), bits(&y)]);
+                outs.push([bits(&u), bits(&l), bits(&v), bits(&x), bits(&y)]);
             }
             assert_eq!(outs[0], outs[1], "k {k}: wide and narrow differ");
         }

@@ -81,6 +81,15 @@ impl DenseLu {
         );
     }
 
+    /// `U^-1` of the last factorisation (of a `k x k` matrix) written on
+    /// and above the diagonal of `dst` (`k x k`, column stride `ld`); the
+    /// entries below it are left as they are.
+    pub(super) fn invert_upper(&self, k: usize, dst: &mut [f64], ld: usize) {
+        let src = faer::MatRef::from_column_major_slice(&self.lu[..k * k], k, k);
+        let dst = MatMut::from_column_major_slice_with_stride_mut(dst, k, k, ld);
+        faer::linalg::triangular_inverse::invert_upper_triangular(dst, src, Par::Seq);
+    }
+
     /// The row permutation of the last factorisation of a `k x k` matrix:
     /// row `i` of the factors is row `perm[i]` of the matrix.
     pub(super) fn perm(&self, k: usize) -> &[usize] {
