@@ -134,6 +134,24 @@ fn lane_sum(l: [f64; 4], tail: f64) -> f64 {
     ((l[0] + l[1]) + (l[2] + l[3])) + tail
 }
 
+/// The four dot products of [`Lanes::dot4`] from their vector lanes `d`
+/// and the entries past the last whole vector (`tails` of the columns,
+/// `bt` of the other vector).
+#[inline(always)]
+fn dot4_sums<V: pulp::bytemuck::Pod>(d: [V; 4], tails: [&[f64]; 4], bt: &[f64]) -> [f64; 4] {
+    let mut out = [0.0; 4];
+    for t in 0..4 {
+        let mut l = [0.0f64; 4];
+        l.copy_from_slice(&pulp::bytemuck::cast_slice::<V, f64>(std::slice::from_ref(&d[t]))[..4]);
+        let mut tail = 0.0f64;
+        for (&x, &y) in tails[t].iter().zip(bt) {
+            tail = x.mul_add(y, tail);
+        }
+        out[t] = lane_sum(l, tail);
+    }
+    out
+}
+
 impl<S: pulp::Simd> Lanes for Wide<S> {
     #[inline(always)]
     fn axpy(self, y: &mut [f64], x: &[f64], a: f64) {
@@ -205,15 +223,7 @@ impl<S: pulp::Simd> Lanes for Wide<S> {
             d[2] = simd.mul_add_e_f64s(a2, bv, d[2]);
             d[3] = simd.mul_add_e_f64s(a3, bv, d[3]);
         }
-        std::array::from_fn(|t| {
-            let mut l = [0.0f64; 4];
-            l.copy_from_slice(pulp::bytemuck::cast_slice(std::slice::from_ref(&d[t])));
-            let mut tail = 0.0f64;
-            for (&x, &y) in a[t].1.iter().zip(bt) {
-                tail = x.mul_add(y, tail);
-            }
-            lane_sum(l, tail)
-        })
+        dot4_sums(d, a.map(|c| c.1), bt)
     }
 
     #[inline(always)]
@@ -242,15 +252,7 @@ impl<S: pulp::Simd> Lanes for Wide<S> {
         for (i, yv) in yt.iter_mut().enumerate() {
             *yv = axpy4_entry(*yv, [a[0].1[i], a[1].1[i], a[2].1[i], a[3].1[i]], c);
         }
-        std::array::from_fn(|t| {
-            let mut l = [0.0f64; 4];
-            l.copy_from_slice(pulp::bytemuck::cast_slice(std::slice::from_ref(&d[t])));
-            let mut tail = 0.0f64;
-            for (&x, &z) in a[t].1.iter().zip(bt) {
-                tail = x.mul_add(z, tail);
-            }
-            lane_sum(l, tail)
-        })
+        dot4_sums(d, a.map(|c| c.1), bt)
     }
 }
 
