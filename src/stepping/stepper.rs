@@ -267,6 +267,10 @@ pub struct Stepper {
     contact: Contact,
     transient: Vec<Segment>,
     cycle: Cycle,
+    /// The cycle's load points at the ends of its increments, `ωt = 2π i /
+    /// steps` for `i = 0..=steps`: the same numbers [`Stepper::point`]
+    /// computes there, once per run instead of twice per increment.
+    cycle_points: Vec<LoadPoint>,
     disc: Discretisation,
     options: StepOptions,
     phase: Phase,
@@ -384,10 +388,15 @@ impl Stepper {
                 increment: 0,
             }
         };
+        let steps = disc.steps_per_cycle();
+        let cycle_points = (0..=steps)
+            .map(|i| cycle.at(2.0 * PI * i as f64 / steps as f64))
+            .collect();
         Self {
             contact,
             transient,
             cycle,
+            cycle_points,
             disc,
             options,
             phase,
@@ -582,8 +591,18 @@ impl Stepper {
                 seg.at((increment as f64 + s) / seg.increments as f64)
             }
             Phase::Cycle { increment, .. } => {
+                // The ends of an increment from the table (`increment + s`
+                // is then a whole number, as in the table).
+                let end = if s == 0.0 {
+                    self.cycle_points.get(increment)
+                } else if s == 1.0 {
+                    self.cycle_points.get(increment + 1)
+                } else {
+                    None
+                };
                 let steps = self.disc.steps_per_cycle() as f64;
-                self.cycle.at(2.0 * PI * (increment as f64 + s) / steps)
+                end.copied()
+                    .unwrap_or_else(|| self.cycle.at(2.0 * PI * (increment as f64 + s) / steps))
             }
         }
     }
