@@ -37,6 +37,7 @@ use clarabel::solver::{
 };
 use serde::Serialize;
 
+use super::stepper::cycle_angle;
 use crate::contact::{Contact, Operators};
 use crate::model::Cycle;
 
@@ -164,9 +165,8 @@ impl SafeStateSearch {
     pub fn new(contact: &Contact, cycle: &Cycle, steps: usize) -> Self {
         let n = contact.nodes();
         let friction = contact.material().friction();
-        let mut elastic = contact.least_elastic_margins(
-            (0..steps).map(|j| cycle.at(2.0 * PI * j as f64 / steps as f64)),
-        );
+        let mut elastic = contact
+            .least_elastic_margins((0..steps).map(|j| cycle.at(cycle_angle(j as f64, steps))));
         let dt = 2.0 * PI / steps as f64;
         let allowance =
             std::f64::consts::SQRT_2 * friction / (2.0 * PI) * cycle.load_factor() * dt * dt / 8.0;

@@ -261,6 +261,14 @@ enum Progress {
     Ended(ContactEnd, f64),
 }
 
+/// `omega t` at `position` increments into a cycle of `steps` increments:
+/// one expression for the cycle's load points and their table, the times of
+/// events and the points of a safe-state search, so that they agree to the
+/// bit.
+pub(crate) fn cycle_angle(position: f64, steps: usize) -> f64 {
+    2.0 * PI * position / steps as f64
+}
+
 /// Advances a contact along `transient` and then the steady `cycle`.
 #[derive(Debug, Clone)]
 pub struct Stepper {
@@ -390,7 +398,7 @@ impl Stepper {
         };
         let steps = disc.steps_per_cycle();
         let cycle_points = (0..=steps)
-            .map(|i| cycle.at(2.0 * PI * i as f64 / steps as f64))
+            .map(|i| cycle.at(cycle_angle(i as f64, steps)))
             .collect();
         Self {
             contact,
@@ -577,9 +585,10 @@ impl Stepper {
     fn time_at(&self, s: f64) -> Option<f64> {
         match self.phase {
             Phase::Transient { .. } => None,
-            Phase::Cycle { increment, .. } => {
-                Some(2.0 * PI * (increment as f64 + s) / self.disc.steps_per_cycle() as f64)
-            }
+            Phase::Cycle { increment, .. } => Some(cycle_angle(
+                increment as f64 + s,
+                self.disc.steps_per_cycle(),
+            )),
         }
     }
 
@@ -600,9 +609,9 @@ impl Stepper {
                 } else {
                     None
                 };
-                let steps = self.disc.steps_per_cycle() as f64;
+                let steps = self.disc.steps_per_cycle();
                 end.copied()
-                    .unwrap_or_else(|| self.cycle.at(2.0 * PI * (increment as f64 + s) / steps))
+                    .unwrap_or_else(|| self.cycle.at(cycle_angle(increment as f64 + s, steps)))
             }
         }
     }
