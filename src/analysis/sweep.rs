@@ -441,6 +441,8 @@ impl SweepSpec {
                         Stepper::from_center(contact.clone(), cycle, self.disc, self.options);
                     // The observer below reads no events.
                     s.set_zone_events(false);
+                    s.set_straight_runs(true);
+                    s.set_event_reports(false);
                     let mut look = |_: &Stepper, _: &StepReport| {
                         if stop() {
                             Control::Stop

@@ -34,7 +34,7 @@
 use std::f64::consts::PI;
 
 use super::cache::{self, ResponseCache};
-use super::kernels::{self, at_limit, end_margins, rate_extremes, SCREEN};
+use super::kernels::{self, at_limit, end_margins, event_times, rate_extremes, SCREEN};
 use super::operators::{FftScratch, Operators};
 use super::solver::{
     fingerprint, same_directions, Advanced, Contact, ContactEnd, ContactError, SlipDirection,
@@ -48,6 +48,12 @@ use crate::model::LoadPoint;
 /// increment the friction law then holds to `RATE_TOL`, well inside
 /// [`TRACTION_TOL`].
 const RATE_TOL: f64 = 1e-13;
+
+/// Relative width of a tie between the first events of two nodes: a node
+/// whose first event comes within this of the earliest is tested exactly
+/// (far wider than the round-off in which the branch-free times and the
+/// exact test can differ).
+const EVENT_TIES: f64 = 1e-9;
 /// `|y|` within this relative distance of `2 pi` is on the torque limit.
 const GROSS_TOL: f64 = 1e-9;
 
@@ -431,13 +437,17 @@ impl Contact {
         let n = self.nodes();
         let mut s = 0.0;
         let mut rate_solves_here = 0;
-        let max_events = 4 * n + 20;
+        let max_events = (4 * n + 20) * self.segment_increments;
         let mut events = 0;
         // A node reached the friction limit at the end of the last
         // sub-segment: the set is decided there straight away (a scan there
         // would only ask for it).
         let mut entry = false;
         loop {
+            #[cfg(test)]
+            if self.refuse_runs && self.segment_increments > 1 && s > 0.0 {
+                return self.last_resort(target, s, w);
+            }
             if !w.engine.valid {
                 self.responses(w, dx, dy)?;
             }
@@ -461,7 +471,7 @@ impl Contact {
                 // second request at the same point means it did not hold.
                 rate_solves_here += 1;
                 if rate_solves_here > 2 {
-                    return self.fallback(target, s, w);
+                    return self.last_resort(target, s, w);
                 }
                 let events_before = self.increment.events.len();
                 match self.rate_problem(w, dx, dy, s, remaining) {
@@ -486,7 +496,7 @@ impl Contact {
                         self.refresh_tractions();
                         return Ok(Advanced::Ended(ContactEnd::GrossSlip { load: self.load }));
                     }
-                    Err(RateFailure::NotSettled) => return self.fallback(target, s, w),
+                    Err(RateFailure::NotSettled) => return self.last_resort(target, s, w),
                 }
             }
             rate_solves_here = 0;
@@ -505,7 +515,7 @@ impl Contact {
                 Stop::Entry => {
                     events += 1;
                     if events > max_events {
-                        return self.fallback(target, s, w);
+                        return self.last_resort(target, s, w);
                     }
                     entry = true;
                 }
@@ -754,6 +764,39 @@ impl Contact {
         }
         let (p, q) = (&self.pressure[..n], &self.shear[..n]);
         let (tpx, tpy, tqx, tqy) = (&e.tpx[..n], &e.tpy[..n], &e.tqx[..n], &e.tqy[..n]);
+        if self.segment_increments > 1 {
+            // A straight run of increments: on a long segment most stick
+            // nodes would reach the limit by its end, so the end margins
+            // would send most of them to the exact test. Instead a
+            // branch-free pass gives each node's first event, and only the
+            // nodes within round-off of the earliest take the exact test,
+            // in node order: the same event, at the same parameter, as the
+            // exact test of every node. A node at the limit with its slack
+            // falling (-1) goes the usual way.
+            let v = [p, q, tpx, tpy, tqx, tqy, &e.off[..n]];
+            let lowest = event_times(v, [dx, dy, remaining], f, RATE_TOL, &mut margins[..n]);
+            if lowest >= 0.0 {
+                let near = lowest + lowest * EVENT_TIES;
+                if lowest < remaining + remaining * EVENT_TIES {
+                    for (j, &t) in margins[..n].iter().enumerate() {
+                        if t <= near {
+                            self.locate(
+                                w,
+                                j,
+                                dx,
+                                dy,
+                                remaining,
+                                &mut t_min,
+                                &mut stop,
+                                &mut need_rates,
+                            );
+                        }
+                    }
+                }
+                w.engine.margins = margins;
+                return self.gross_or(stop, t_min, need_rates, load_dy);
+            }
+        }
         // First a branch-free pass for the end margins (the common answer
         // is that no node can reach an event), then the exact test of the
         // few nodes whose margin is low, in node order.
@@ -781,6 +824,19 @@ impl Contact {
             }
         }
         w.engine.margins = margins;
+        self.gross_or(stop, t_min, need_rates, load_dy)
+    }
+
+    /// The segment's first stop: `stop` at `t_min` (with `need_rates`), or
+    /// gross slip where `|y|` reaches `2 pi` first (`load_dy` the change of
+    /// `y` along the segment).
+    fn gross_or(
+        &self,
+        mut stop: Stop,
+        mut t_min: f64,
+        need_rates: bool,
+        load_dy: f64,
+    ) -> (Stop, f64, bool) {
         if load_dy != 0.0 {
             let y = self.load.y();
             let limit = 2.0 * PI * load_dy.signum();
@@ -964,11 +1020,13 @@ impl Contact {
             };
             self.combine(w, a1, a2);
             let e = &mut w.engine;
-            let scale = e
-                .set
-                .iter()
-                .map(|&(j, _)| e.rg[j].abs())
-                .fold(0.0, f64::max);
+            // (A plain comparison, which skips a NaN as `f64::max` does,
+            // in fewer instructions a node.)
+            let scale =
+                e.set
+                    .iter()
+                    .map(|&(j, _)| e.rg[j].abs())
+                    .fold(0.0, |m, r| if r > m { r } else { m });
             changed = false;
             // The slip set of `trial` as it leaves this iteration.
             let mut slipping = e.set.len();
@@ -1058,6 +1116,29 @@ impl Contact {
             }
         }
         Ok(())
+    }
+
+    /// Where the rate problem does not settle: the finite-step fallback
+    /// over one increment, or, over a straight run of several
+    /// ([`Contact::set_segment_increments`]), a stop here for the caller to
+    /// take the rest one increment at a time. The contact is left valid
+    /// where it got to, at parameter `s`.
+    fn last_resort(
+        &mut self,
+        target: LoadPoint,
+        s: f64,
+        w: &mut Workspace,
+    ) -> Result<Advanced, ContactError> {
+        if self.segment_increments == 1 {
+            return self.fallback(target, s, w);
+        }
+        // The responses may be those of a trial set that did not settle.
+        w.engine.valid = false;
+        self.increment.reached = s;
+        Err(ContactError::NotSettled {
+            load: self.load,
+            iterations: 0,
+        })
     }
 
     /// Last resort: the finite-step active-set iteration from the current

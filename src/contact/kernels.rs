@@ -316,6 +316,67 @@ fn rate_extremes_kernel(r: &[f64], sgn: &[f64]) -> (f64, f64) {
     (scale, worst)
 }
 
+wide! {
+    /// The earliest event of each node on a segment into `out`, and the
+    /// lowest (see [`event_time`]).
+    fn event_times<'a>(v: [&'a [f64]; 7], along: [f64; 3], f: f64, rate_tol: f64, out: &'a mut [f64]) -> f64 {
+        let [p, q, px, py, qx, qy, off] = v;
+        let n = out.len();
+        let nodes = p[..n]
+            .iter()
+            .zip(&q[..n])
+            .zip(&px[..n])
+            .zip(&py[..n])
+            .zip(&qx[..n])
+            .zip(&qy[..n])
+            .zip(&off[..n]);
+        for (o, ((((((&p, &q), &px), &py), &qx), &qy), &off)) in out.iter_mut().zip(nodes) {
+            *o = event_time([p, q, px, py, qx, qy, off], along, f, rate_tol);
+        }
+        let mut low = [f64::INFINITY; 4];
+        for t4 in four(out) {
+            for i in 0..4 {
+                low[i] = if t4[i] < low[i] { t4[i] } else { low[i] };
+            }
+        }
+        let whole = n - n % 4;
+        out[whole..]
+            .iter()
+            .chain(&low)
+            .fold(f64::INFINITY, |m, &t| if t < m { t } else { m })
+    }
+}
+
+/// The segment parameter at which a node meets its first event on a
+/// segment along `(dx, dy)` with `remaining` of it left (`along = [dx, dy,
+/// remaining]`), from its `[p, q, dp/dx, dp/dy, dq/dx, dq/dy, off]`
+/// (`off` 0 on a stick node, infinite on a slip node): `p` reaching 0, or
+/// on a stick node `f p -+ q` reaching 0 with the test and the numbers of
+/// the exact test in the increment; infinite if none; `-1` if the node is
+/// at the friction limit already with its slack falling (the rate problem
+/// must decide it). Branch-free, so the compiler vectorises the pass.
+#[inline(always)]
+pub(super) fn event_time(v: [f64; 7], along: [f64; 3], f: f64, rate_tol: f64) -> f64 {
+    let [p, q, px, py, qx, qy, off] = v;
+    let [dx, dy, remaining] = along;
+    let a = dx * px + dy * py;
+    let b = dx * qx + dy * qy;
+    let p0 = if p < 0.0 { 0.0 } else { p };
+    let mut t = if a < 0.0 { p0 / -a } else { f64::INFINITY };
+    let mut need = false;
+    for (h0, h1) in [(f * p - q + off, f * a - b), (f * p + q + off, f * a + b)] {
+        let active = h1 < -rate_tol && h0 + remaining * h1 < -TRACTION_TOL;
+        need |= active && h0 <= TRACTION_TOL;
+        let te = if active { h0 / -h1 } else { f64::INFINITY };
+        t = if te < t { te } else { t };
+    }
+    if need {
+        -1.0
+    } else {
+        t
+    }
+}
+
 /// A node whose end margin (below) is under this is tested exactly. The
 /// margin is the exact test's quantity summed in another order, so a node a
 /// round-off above zero is tested too.

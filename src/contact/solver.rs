@@ -294,6 +294,13 @@ pub struct Contact {
     /// Whether [`Contact::advance`] stops at each event (for a viewer that
     /// pauses there).
     pub(super) pause_at_events: bool,
+    /// Increments of the caller's path that the next segments span (see
+    /// [`Contact::set_segment_increments`]).
+    pub(super) segment_increments: usize,
+    /// Test only: over a straight run, do not settle at the first event
+    /// (to exercise the stepper's way round that).
+    #[cfg(test)]
+    pub(crate) refuse_runs: bool,
 }
 
 impl std::fmt::Debug for Contact {
@@ -325,6 +332,9 @@ impl Contact {
             work: Some(Box::new(Workspace::new(n))),
             increment: Increment::new(n),
             pause_at_events: false,
+            segment_increments: 1,
+            #[cfg(test)]
+            refuse_runs: false,
         };
         c.refresh();
         c
@@ -336,6 +346,27 @@ impl Contact {
     /// events are located on the same straight segment.
     pub fn set_pause_at_events(&mut self, pause: bool) {
         self.pause_at_events = pause;
+    }
+
+    /// Whether [`Contact::advance`] stops at events
+    /// ([`Contact::set_pause_at_events`]).
+    pub fn pauses_at_events(&self) -> bool {
+        self.pause_at_events
+    }
+
+    /// Say that the segments the next [`Contact::advance`] calls follow
+    /// are straight runs of `increments` increments of the caller's path
+    /// (1, the default: one increment each).
+    ///
+    /// The path-following itself does not depend on the segment's length:
+    /// every event on it is located exactly. Two last resorts do: the cap on
+    /// the events of one segment (which notices an event loop) scales with
+    /// it, and over more than one increment the finite-step fallback is not
+    /// taken (it would solve the whole run in one finite step): the
+    /// contact stops where it got to with [`ContactError::NotSettled`], so
+    /// that the caller takes the rest one increment at a time.
+    pub fn set_segment_increments(&mut self, increments: usize) {
+        self.segment_increments = increments.max(1);
     }
 
     /// Replace the locked-in slip (an initial condition) without any load

@@ -298,6 +298,10 @@ pub struct Stepper {
     /// nodes at every change of the slip set, which a batch run that reads
     /// no events need not pay).
     zone_events: bool,
+    /// Whether steps report the contact's events (entries into slip and
+    /// advancing stick, with their `omega t`), which a batch run that reads
+    /// no events need not build.
+    event_reports: bool,
     /// Where in the current increment a step paused at an event.
     resume: Option<f64>,
     /// The search for a safe state that proves shakedown early (set up at
@@ -306,6 +310,17 @@ pub struct Stepper {
     /// Node lists of the events of reports handed back to
     /// [`Stepper::step_into`], emptied, for the next events to reuse.
     spare_nodes: Vec<Vec<usize>>,
+    /// Whether a step takes a whole straight run of increments
+    /// ([`Stepper::set_straight_runs`]).
+    straight: bool,
+    /// Increments the step under way takes: 1, or a straight run's.
+    span: usize,
+    /// The end of the straight run of the cycle from each increment, once
+    /// a step has started there (0 until then).
+    run_ends: Vec<usize>,
+    /// Increments of the current transient segment or cycle below this one
+    /// are taken one at a time: a straight run's step did not settle.
+    single_until: usize,
 }
 
 /// Set up the shared pieces of a run once.
@@ -417,9 +432,14 @@ impl Stepper {
             zones: slip_zones(&contact_dirs),
             zone_dirs: contact_dirs,
             zone_events: true,
+            event_reports: true,
             resume: None,
             spare_nodes: Vec::new(),
             safe_state: None,
+            straight: false,
+            span: 1,
+            run_ends: vec![0; steps],
+            single_until: 0,
         }
     }
 
@@ -447,6 +467,8 @@ impl Stepper {
         let dummy = Cycle::new(center, 0.0, 0.0, 0.0)?;
         let mut s = Self::with_operators(ops, material, disc, initial, dummy, options);
         s.zone_events = false;
+        s.event_reports = false;
+        s.straight = true;
         // The dummy cycle starts at A, so the transient ends exactly there.
         drive(&mut s, Goal::TransientEnd, &mut Silent)?;
         if let Status::Ended(summary) = &s.status {
@@ -585,10 +607,110 @@ impl Stepper {
     fn time_at(&self, s: f64) -> Option<f64> {
         match self.phase {
             Phase::Transient { .. } => None,
-            Phase::Cycle { increment, .. } => Some(cycle_angle(
-                increment as f64 + s,
-                self.disc.steps_per_cycle(),
-            )),
+            Phase::Cycle { increment, .. } => {
+                let (m, r) = self.within_run(increment, s);
+                Some(cycle_angle(m as f64 + r, self.disc.steps_per_cycle()))
+            }
+        }
+    }
+
+    /// The increment `m` of the cycle, and the parameter `r` in `[0, 1]` of
+    /// its chord, at parameter `s` of the step from `increment` (a straight
+    /// run of [`Self::span`] increments): where the run's chord passes
+    /// the same load point. One increment: `(increment, s)` itself.
+    fn within_run(&self, increment: usize, s: f64) -> (usize, f64) {
+        if self.span == 1 || s <= 0.0 {
+            return (increment, s);
+        }
+        let pts = &self.cycle_points[increment..=increment + self.span];
+        let (a, b) = (pts[0], pts[self.span]);
+        let (dx, dy) = (b.x() - a.x(), b.y() - a.y());
+        // Where vertex `m` of the run lies along its chord: 0 at the first,
+        // 1 at the last, increasing between (the run goes one way).
+        let along = |m: usize| {
+            if m == self.span {
+                1.0
+            } else {
+                let p = pts[m];
+                ((p.x() - a.x()) * dx + (p.y() - a.y()) * dy) / (dx * dx + dy * dy)
+            }
+        };
+        // The last vertex at or before `s`, by bisection.
+        let (mut lo, mut hi) = (0, self.span);
+        while hi - lo > 1 {
+            let mid = (lo + hi) / 2;
+            if along(mid) <= s {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let (start, end) = (if lo == 0 { 0.0 } else { along(lo) }, along(lo + 1));
+        (
+            increment + lo,
+            ((s - start) / (end - start)).clamp(0.0, 1.0),
+        )
+    }
+
+    /// The end of the straight run of the cycle's increments from
+    /// `increment`: the last vertex `j` such that the vertices between lie
+    /// on the chord `increment -> j` to within the rounding of the load
+    /// points themselves (a few ulps), each chord going the same way. Along
+    /// such a run the polygon of the increments is that one chord, so a
+    /// step along it follows the same path, with fewer stops.
+    fn run_end(&mut self, increment: usize) -> usize {
+        let steps = self.disc.steps_per_cycle();
+        if self.run_ends[increment] != 0 {
+            return self.run_ends[increment];
+        }
+        let pts = &self.cycle_points;
+        let a = pts[increment];
+        let size = |p: LoadPoint| p.x().abs().max(p.y().abs());
+        // Off the chord `a -> b` by more than the rounding of the points.
+        let off = |p: LoadPoint, b: LoadPoint, scale: f64| {
+            let (dx, dy) = (b.x() - a.x(), b.y() - a.y());
+            ((p.x() - a.x()) * dy - (p.y() - a.y()) * dx).abs()
+                > 64.0 * f64::EPSILON * scale * dx.hypot(dy)
+        };
+        // Grow the run while each next vertex goes on the same way, in line
+        // with the run so far ...
+        let mut end = increment + 1;
+        let mut scale = size(a).max(size(pts[end]));
+        while end < steps {
+            let (last, b) = (pts[end], pts[end + 1]);
+            let forward =
+                (b.x() - last.x()) * (b.x() - a.x()) + (b.y() - last.y()) * (b.y() - a.y());
+            let wider = scale.max(size(b));
+            if forward <= 0.0 || off(b, last, wider) {
+                break;
+            }
+            scale = wider;
+            end += 1;
+        }
+        // ... then hold every vertex between to the whole chord, cutting
+        // the run at the first one off it (rarely, if ever: a slow drift).
+        while let Some(m) = (increment + 1..end).find(|&m| off(pts[m], pts[end], scale)) {
+            end = m;
+        }
+        self.run_ends[increment] = end;
+        end
+    }
+
+    /// Increments the next step takes: the rest of the transient segment
+    /// or of the straight run of the cycle when [`Stepper::set_straight_runs`]
+    /// asked for it, else 1.
+    fn next_span(&mut self) -> usize {
+        if !self.straight || self.resume.is_some() || self.contact.pauses_at_events() {
+            return 1;
+        }
+        match self.phase {
+            Phase::Transient { segment, increment } if increment >= self.single_until => {
+                self.transient[segment].increments - increment
+            }
+            Phase::Cycle { increment, .. } if increment >= self.single_until => {
+                self.run_end(increment) - increment
+            }
+            _ => 1,
         }
     }
 
@@ -597,7 +719,19 @@ impl Stepper {
         match self.phase {
             Phase::Transient { segment, increment } => {
                 let seg = &self.transient[segment];
-                seg.at((increment as f64 + s) / seg.increments as f64)
+                seg.at((increment as f64 + s * self.span as f64) / seg.increments as f64)
+            }
+            Phase::Cycle { increment, .. } if self.span > 1 => {
+                // A straight run: its chord.
+                let (a, b) = (
+                    self.cycle_points[increment],
+                    self.cycle_points[increment + self.span],
+                );
+                if s == 1.0 {
+                    b
+                } else {
+                    a.lerp(b, s)
+                }
             }
             Phase::Cycle { increment, .. } => {
                 // The ends of an increment from the table (`increment + s`
@@ -631,7 +765,9 @@ impl Stepper {
         }
     }
 
-    /// Advance one increment. Does nothing once the run has ended.
+    /// Advance one increment, or the straight run of increments from here
+    /// if [`Stepper::set_straight_runs`] asked for it. Does nothing once the
+    /// run has ended.
     ///
     /// Gross slip and separation are not errors: they end the run with
     /// [`Event::GrossSlip`] or [`Event::Separation`] in the report and
@@ -690,9 +826,48 @@ impl Stepper {
             return Ok(());
         }
         let events_before = report.events.len();
+        self.span = self.next_span();
         let start = self.resume.take().unwrap_or(0.0);
-        match self.advance(start, 1.0, 0, report) {
+        let result = if self.span > 1 {
+            // A straight run: no bisection of it (a failure is taken one
+            // increment at a time below).
+            self.contact.set_segment_increments(self.span);
+            let result = self.advance(start, 1.0, self.options.failure_bisections, report);
+            self.contact.set_segment_increments(1);
+            result
+        } else {
+            self.advance(start, 1.0, 0, report)
+        };
+        match result {
             Ok(Progress::Done) => {}
+            Err(ContactError::NotSettled { .. }) if self.span > 1 => {
+                // The rest of the run one increment at a time, from the
+                // increment where the contact stopped.
+                let reached = self.contact.last_increment().reached;
+                let (from, increment, r) = match self.phase {
+                    Phase::Transient { increment, .. } => {
+                        // Equal increments.
+                        let at = reached * self.span as f64;
+                        let m = (at.floor() as usize).min(self.span - 1);
+                        (increment, increment + m, at - m as f64)
+                    }
+                    Phase::Cycle { increment, .. } => {
+                        let (m, r) = self.within_run(increment, reached);
+                        (increment, m, r)
+                    }
+                };
+                self.single_until = from + self.span;
+                self.increments += increment - from;
+                match &mut self.phase {
+                    Phase::Transient { increment: i, .. } | Phase::Cycle { increment: i, .. } => {
+                        *i = increment
+                    }
+                }
+                self.span = 1;
+                self.resume = (r > 0.0).then_some(r.min(1.0));
+                self.after_increment(events_before, report);
+                return Ok(());
+            }
             Ok(Progress::Paused(at)) => {
                 self.resume = Some(at);
                 report.partial = Some(at);
@@ -716,9 +891,10 @@ impl Stepper {
                 return Ok(());
             }
         }
-        self.increments += 1;
+        self.increments += self.span;
         self.after_increment(events_before, report);
         self.move_on(report);
+        self.span = 1;
         Ok(())
     }
 
@@ -792,7 +968,12 @@ impl Stepper {
         report.factorisations += inc.factorisations;
         report.iterations += inc.rate_solves;
         report.slip_set_changed |= inc.set_changed;
-        for ev in &inc.events {
+        let events = if self.event_reports {
+            &inc.events[..]
+        } else {
+            &[]
+        };
+        for ev in events {
             let time = self.time_at(s0 + ev.fraction * (s1 - s0));
             // A new list has room for every node, so that no list grows.
             let n = self.contact.nodes();
@@ -871,18 +1052,20 @@ impl Stepper {
     fn move_on(&mut self, report: &mut StepReport) {
         match self.phase {
             Phase::Transient { segment, increment } => {
-                let next = increment + 1;
+                let next = increment + self.span;
                 if next < self.transient[segment].increments {
                     self.phase = Phase::Transient {
                         segment,
                         increment: next,
                     };
                 } else if segment + 1 < self.transient.len() {
+                    self.single_until = 0;
                     self.phase = Phase::Transient {
                         segment: segment + 1,
                         increment: 0,
                     };
                 } else {
+                    self.single_until = 0;
                     self.phase = Phase::Cycle {
                         cycle: 1,
                         increment: 0,
@@ -892,7 +1075,7 @@ impl Stepper {
                 }
             }
             Phase::Cycle { cycle, increment } => {
-                let next = increment + 1;
+                let next = increment + self.span;
                 if next < self.disc.steps_per_cycle() {
                     self.phase = Phase::Cycle {
                         cycle,
@@ -913,6 +1096,7 @@ impl Stepper {
                     rotation: done.rotation,
                 });
                 self.history.push(done);
+                self.single_until = 0;
                 self.phase = Phase::Cycle {
                     cycle: cycle + 1,
                     increment: 0,
@@ -1009,6 +1193,8 @@ impl Stepper {
     pub fn run_to_steady(&mut self) -> Result<Summary, StepError> {
         // Nobody reads the events on the way.
         let zone_events = std::mem::replace(&mut self.zone_events, false);
+        let event_reports = std::mem::replace(&mut self.event_reports, false);
+        let straight = std::mem::replace(&mut self.straight, true);
         let result = loop {
             if let Some(summary) = self.summary() {
                 break Ok(summary.clone());
@@ -1018,7 +1204,21 @@ impl Stepper {
             }
         };
         self.zone_events = zone_events;
+        self.event_reports = event_reports;
+        self.straight = straight;
         result
+    }
+
+    /// Let each step take a whole straight run of increments (`on`), or
+    /// one increment (the default, for a viewer that steps increment by
+    /// increment): the rest of a transient segment, or the increments of
+    /// the cycle whose load points lie on one chord (all of a half cycle
+    /// when `phi = 0`). The path is the same polygon and every event on it
+    /// is located exactly either way, at the same load point and `omega t`;
+    /// only the stops between events go. [`Stepper::run_to_steady`] takes
+    /// straight runs.
+    pub fn set_straight_runs(&mut self, on: bool) {
+        self.straight = on;
     }
 
     /// Report [`Event::SlipSetChanged`] at every change of the slip set
@@ -1028,6 +1228,14 @@ impl Stepper {
     /// last one reported.
     pub fn set_zone_events(&mut self, on: bool) {
         self.zone_events = on;
+    }
+
+    /// Report each entry into slip and each advancing stick as an
+    /// [`Event`] (the default), or not: a run that reads no events (a
+    /// sweep) need not build them. Terminal events, cycle ends and the
+    /// verdict are reported either way.
+    pub fn set_event_reports(&mut self, on: bool) {
+        self.event_reports = on;
     }
 
     /// Step until the current cycle ends (or the run ends), returning the
@@ -1043,5 +1251,82 @@ impl Stepper {
             Control::Continue
         })?;
         Ok(events)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stepper() -> Stepper {
+        Stepper::new(
+            Material::paper(),
+            Discretisation::new(64, 200).unwrap(),
+            &Initial::Direct,
+            Cycle::paper(5.5, 0.0).unwrap(),
+            StepOptions::default(),
+        )
+    }
+
+    /// The events' `omega t` and load points, in order.
+    fn events(r: &StepReport, into: &mut Vec<(Option<f64>, LoadPoint)>) {
+        for e in &r.events {
+            if let Event::AdvancingStick { time, load, .. } | Event::SlipEntry { time, load, .. } =
+                e
+            {
+                into.push((*time, *load));
+            }
+        }
+    }
+
+    #[test]
+    fn a_straight_run_that_does_not_settle_goes_on_one_increment_at_a_time() {
+        let mut plain = stepper();
+        let mut e1 = Vec::new();
+        drive(
+            &mut plain,
+            Goal::Steady,
+            &mut |_: &Stepper, r: &StepReport| {
+                events(r, &mut e1);
+                Control::Continue
+            },
+        )
+        .unwrap();
+        let a = plain.summary().cloned().unwrap();
+        // Each straight run gives up at its first event: the stepper takes
+        // the rest of it one increment at a time, from that event.
+        let mut refused = stepper();
+        refused.contact.refuse_runs = true;
+        refused.set_straight_runs(true);
+        let (mut inside, mut steps, mut e2) = (0, 0, Vec::new());
+        drive(
+            &mut refused,
+            Goal::Steady,
+            &mut |s: &Stepper, r: &StepReport| {
+                steps += 1;
+                inside += usize::from(s.is_inside_increment());
+                events(r, &mut e2);
+                Control::Continue
+            },
+        )
+        .unwrap();
+        let b = refused.summary().cloned().unwrap();
+        assert!(
+            inside > 10,
+            "{inside} of {steps} steps stopped inside an increment"
+        );
+        assert!(steps < refused.increments(), "{steps} steps");
+        assert_eq!((a.state, a.cycles), (b.state, b.cycles));
+        assert_eq!(plain.increments(), refused.increments());
+        let rel = (a.dissipation - b.dissipation).abs() / a.dissipation;
+        assert!(rel < 1e-9, "W {} vs {}", a.dissipation, b.dissipation);
+        // The same events at the same instants and load points.
+        assert_eq!(e1.len(), e2.len());
+        for ((t1, l1), (t2, l2)) in e1.iter().zip(&e2) {
+            if let (Some(t1), Some(t2)) = (t1, t2) {
+                assert!((t1 - t2).abs() < 1e-9, "{t1} vs {t2}");
+            }
+            assert!(l1.distance(*l2) < 1e-9, "{l1} vs {l2}");
+        }
     }
 }

@@ -7,8 +7,8 @@ use std::sync::Arc;
 
 use shakedown::contact::{ContactEventKind, Increment};
 use shakedown::{
-    Advanced, Contact, ContactEnd, Cycle, Discretisation, Initial, LoadPoint, Material, Operators,
-    Plane, SteadyState, StepOptions, Stepper,
+    Advanced, Contact, ContactEnd, Cycle, Discretisation, Event, Initial, LoadPoint, Material,
+    Operators, Plane, SteadyState, StepOptions, StepReport, Stepper,
 };
 
 fn contact(n: usize) -> Contact {
@@ -508,4 +508,108 @@ fn a_reused_report_says_what_a_fresh_one_says() {
     assert_eq!(reused.summary(), fresh.summary());
     // The comparison covered reports whose events carry node lists.
     assert!(with_nodes > 10, "{with_nodes} steps with slip events");
+}
+
+/// Every step of a run to its steady state, with straight runs taken at
+/// once or not: the summary, the increments and the events (kind, nodes,
+/// `omega t`, load point) in order, and the steps taken.
+#[allow(clippy::type_complexity)]
+fn stepped(
+    cycle: Cycle,
+    steps: usize,
+    straight: bool,
+) -> (
+    shakedown::Summary,
+    usize,
+    Vec<(bool, Vec<usize>, Option<f64>, LoadPoint)>,
+    usize,
+) {
+    use shakedown::stepping::{drive, Control, Goal};
+    let mut s = Stepper::new(
+        Material::paper(),
+        Discretisation::new(64, steps).unwrap(),
+        &Initial::Direct,
+        cycle,
+        StepOptions::default(),
+    );
+    s.set_straight_runs(straight);
+    let mut events = Vec::new();
+    let mut taken = 0;
+    drive(&mut s, Goal::Steady, &mut |_: &Stepper, r: &StepReport| {
+        taken += 1;
+        for e in &r.events {
+            match e {
+                Event::AdvancingStick {
+                    nodes, time, load, ..
+                } => events.push((true, nodes.clone(), *time, *load)),
+                Event::SlipEntry { nodes, time, load } => {
+                    events.push((false, nodes.clone(), *time, *load))
+                }
+                _ => {}
+            }
+        }
+        Control::Continue
+    })
+    .unwrap();
+    (s.summary().cloned().unwrap(), s.increments(), events, taken)
+}
+
+/// The same events, in the same order, at the same instant and load point
+/// (to round-off).
+fn same_events(
+    e1: &[(bool, Vec<usize>, Option<f64>, LoadPoint)],
+    e2: &[(bool, Vec<usize>, Option<f64>, LoadPoint)],
+) {
+    assert_eq!(e1.len(), e2.len());
+    for (a, b) in e1.iter().zip(e2) {
+        assert_eq!((a.0, &a.1), (b.0, &b.1), "{a:?} vs {b:?}");
+        match (a.2, b.2) {
+            (Some(ta), Some(tb)) => assert!((ta - tb).abs() < 1e-9, "{a:?} vs {b:?}"),
+            (ta, tb) => assert_eq!(ta, tb),
+        }
+        assert!(a.3.distance(b.3) < 1e-9, "{a:?} vs {b:?}");
+    }
+}
+
+#[test]
+fn a_straight_run_of_increments_taken_at_once_meets_the_same_events() {
+    // phi = 0: each half cycle is one straight run, the transient's
+    // segments are straight, and a step takes each whole.
+    let cycle = Cycle::paper(5.5, 0.0).unwrap();
+    let (one, i1, e1, steps1) = stepped(cycle, 200, false);
+    let (run, i2, e2, steps2) = stepped(cycle, 200, true);
+    assert_eq!(one.state, SteadyState::CyclicSlip);
+    assert_eq!((one.state, one.cycles), (run.state, run.cycles));
+    assert_eq!(i1, i2, "the same increments");
+    let rel = (one.dissipation - run.dissipation).abs() / one.dissipation;
+    assert!(rel < 1e-9, "W {} vs {}", one.dissipation, run.dissipation);
+    assert!(e1.len() > 100, "{}", e1.len());
+    same_events(&e1, &e2);
+    // Three steps a cycle (out, back through the centre, back to it).
+    assert_eq!(steps1, i1);
+    assert!(steps2 <= 3 * run.cycles + 10, "{steps2} steps");
+}
+
+#[test]
+fn only_straight_runs_are_taken_at_once() {
+    // An odd increment count: the turning points fall between vertices,
+    // and the two vertices beside each lie on the line to round-off.
+    let cycle = Cycle::paper(5.5, 0.0).unwrap();
+    let (one, i1, e1, _) = stepped(cycle, 201, false);
+    let (run, i2, e2, steps2) = stepped(cycle, 201, true);
+    assert_eq!((one.state, one.cycles, i1), (run.state, run.cycles, i2));
+    same_events(&e1, &e2);
+    assert!(steps2 <= 4 * run.cycles + 10, "{steps2} steps");
+    // An ellipse (phi = pi/2) has no two chords in line: one increment a
+    // step, exactly as without straight runs.
+    let cycle = Cycle::paper(5.5, 0.5 * PI).unwrap();
+    let (one, i1, e1, steps1) = stepped(cycle, 200, false);
+    let (run, i2, e2, steps2) = stepped(cycle, 200, true);
+    assert_eq!((one.state, one.cycles, i1), (run.state, run.cycles, i2));
+    let rel = (one.dissipation - run.dissipation).abs() / one.dissipation;
+    assert!(rel < 1e-9, "W {} vs {}", one.dissipation, run.dissipation);
+    same_events(&e1, &e2);
+    // The transient's segments are still taken whole.
+    assert!(steps2 < steps1, "{steps2} vs {steps1}");
+    assert!(steps2 >= run.cycles * 200, "{steps2}");
 }
