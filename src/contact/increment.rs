@@ -764,52 +764,35 @@ impl Contact {
         }
         let (p, q) = (&self.pressure[..n], &self.shear[..n]);
         let (tpx, tpy, tqx, tqy) = (&e.tpx[..n], &e.tpy[..n], &e.tqx[..n], &e.tqy[..n]);
+        let v = [p, q, tpx, tpy, tqx, tqy, &e.off[..n]];
+        // A branch-free pass over the nodes gives each a number, and the
+        // nodes whose number is below `bound` take the exact test, in node
+        // order. Most often that is the end margin, and nothing is below
+        // the screen (no node can reach an event on the segment). On a
+        // straight run of increments, though, most stick nodes would reach
+        // the limit by the end of so long a segment: there the number is
+        // the node's first event, and only the nodes within round-off of the
+        // earliest take the exact test, which finds the same event at the
+        // same parameter as testing every node would. A node at the limit
+        // with its slack falling (-1 there) goes by its end margin.
+        let mut lowest = -1.0;
+        let mut bound = 0.0;
         if self.segment_increments > 1 {
-            // A straight run of increments: on a long segment most stick
-            // nodes would reach the limit by its end, so the end margins
-            // would send most of them to the exact test. Instead a
-            // branch-free pass gives each node's first event, and only the
-            // nodes within round-off of the earliest take the exact test,
-            // in node order: the same event, at the same parameter, as the
-            // exact test of every node. A node at the limit with its slack
-            // falling (-1) goes the usual way.
-            let v = [p, q, tpx, tpy, tqx, tqy, &e.off[..n]];
-            let lowest = event_times(v, [dx, dy, remaining], f, RATE_TOL, &mut margins[..n]);
-            if lowest >= 0.0 {
-                let near = lowest + lowest * EVENT_TIES;
-                if lowest < remaining + remaining * EVENT_TIES {
-                    for (j, &t) in margins[..n].iter().enumerate() {
-                        if t <= near {
-                            self.locate(
-                                w,
-                                j,
-                                dx,
-                                dy,
-                                remaining,
-                                &mut t_min,
-                                &mut stop,
-                                &mut need_rates,
-                            );
-                        }
-                    }
-                }
-                w.engine.margins = margins;
-                return self.gross_or(stop, t_min, need_rates, load_dy);
-            }
+            lowest = event_times(v, [dx, dy, remaining], f, RATE_TOL, &mut margins[..n]);
+            bound = if lowest < remaining + remaining * EVENT_TIES {
+                lowest + lowest * EVENT_TIES + f64::MIN_POSITIVE
+            } else {
+                lowest
+            };
         }
-        // First a branch-free pass for the end margins (the common answer
-        // is that no node can reach an event), then the exact test of the
-        // few nodes whose margin is low, in node order.
-        let lowest = end_margins(
-            [p, q, tpx, tpy, tqx, tqy, &e.off[..n]],
-            f,
-            remaining * dx,
-            remaining * dy,
-            &mut margins[..n],
-        );
-        if lowest < SCREEN {
+        if lowest < 0.0 {
+            let (ex, ey) = (remaining * dx, remaining * dy);
+            lowest = end_margins(v, f, ex, ey, &mut margins[..n]);
+            bound = SCREEN;
+        }
+        if lowest < bound {
             for (j, &m) in margins[..n].iter().enumerate() {
-                if m < SCREEN {
+                if m < bound {
                     self.locate(
                         w,
                         j,
