@@ -68,7 +68,7 @@ impl SlipDirection {
 
 /// A physical end of the contact problem within an increment: the load
 /// cannot go further along its path. These are outcomes of the physics
-/// (the stepper reports them as [`crate::Outcome`]s), not failures.
+/// (the stepper reports them as [`crate::stepping::Outcome`]s), not failures.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ContactEnd {
     /// `|y|` reached `2 pi`: the friction torque cannot grow further and the

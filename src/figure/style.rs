@@ -1,5 +1,5 @@
 //! What every figure shares: the bundled font, the [`Drawing`] trait and
-//! the SVG + PNG writer, the paper's state markers ([`Mark`]), colours,
+//! the SVG + PNG writer, the paper's state markers (`Mark`), colours,
 //! line patterns whose legend samples look like the lines, and the slip
 //! direction names (model.md section 1.3).
 //!

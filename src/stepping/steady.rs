@@ -246,7 +246,7 @@ impl std::fmt::Display for Approach {
 pub const SETTLE_CYCLES: usize = 3;
 
 /// The verdict after a cycle, if the run has one. At the cap the verdict
-/// is `not-converged` (see [`Trend`] for what is known then).
+/// is `not-converged` (see [`Trend`](super::verdict::Trend) for what is known then).
 pub fn assess(history: &[CycleRecord], criteria: &Convergence) -> Option<(SteadyState, Approach)> {
     let last = history.last()?;
     if !last.slipped() {

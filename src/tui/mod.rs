@@ -8,7 +8,7 @@
 //! view's state and its background threads; [`regime`] the regime map's
 //! state and its cancellable computation; [`keys`] the one key table;
 //! [`event`] the loop's inputs; [`terminal`] setup, restore and signals;
-//! [`format`] how numbers are written; and [`ui`] the panels, one widget
+//! [`mod@format`] how numbers are written; and [`ui`] the panels, one widget
 //! each. The loop here takes what the worker sent, draws, and answers keys.
 
 pub mod app;
