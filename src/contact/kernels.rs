@@ -356,7 +356,7 @@ wide! {
 /// at the friction limit already with its slack falling (the rate problem
 /// must decide it). Branch-free, so the compiler vectorises the pass.
 #[inline(always)]
-pub(super) fn event_time(v: [f64; 7], along: [f64; 3], f: f64, rate_tol: f64) -> f64 {
+fn event_time(v: [f64; 7], along: [f64; 3], f: f64, rate_tol: f64) -> f64 {
     let [p, q, px, py, qx, qy, off] = v;
     let [dx, dy, remaining] = along;
     let a = dx * px + dy * py;
@@ -540,6 +540,68 @@ mod tests {
             assert!(o.iter().zip(&out).all(|(a, b)| a.to_bits() == b.to_bits()));
             assert_eq!(low, o.iter().fold(f64::INFINITY, |m, &x| m.min(x)));
         }
+    }
+
+    /// The first-event pass gives, at every node (tail included: 131
+    /// nodes), the bits of the scalar [`event_time`], and their minimum;
+    /// and the times it gives are the roots of the affine slack and
+    /// pressure it watches.
+    #[test]
+    fn event_times_are_the_scalar_first_events() {
+        let (n, f) = (131, 0.3);
+        let mut v: Vec<Vec<f64>> = (20..27).map(|i| values(n, i)).collect();
+        // Pressures in [0.5, 1.5) and shears inside the friction cone;
+        // slip nodes (an infinite offset) every fifth; stick nodes at the
+        // friction limit every seventh.
+        for j in 0..n {
+            v[0][j] += 1.5;
+            v[1][j] *= f * v[0][j];
+            v[6][j] = if j % 5 == 0 { f64::INFINITY } else { 0.0 };
+            if j % 7 == 0 {
+                v[1][j] = f * v[0][j];
+            }
+        }
+        let along = [0.8, -0.6, 1.0];
+        let mut out = vec![0.0; n];
+        let lowest = event_times(
+            std::array::from_fn(|i| v[i].as_slice()),
+            along,
+            f,
+            1e-13,
+            &mut out,
+        );
+        let mut kinds = [0; 3];
+        for j in 0..n {
+            let node: [f64; 7] = std::array::from_fn(|i| v[i][j]);
+            let t = event_time(node, along, f, 1e-13);
+            assert_eq!(out[j].to_bits(), t.to_bits(), "node {j}");
+            let [p, q, px, py, qx, qy, off] = node;
+            let a = along[0] * px + along[1] * py;
+            let b = along[0] * qx + along[1] * qy;
+            if t == -1.0 {
+                // At the limit, its slack falling on one side.
+                kinds[0] += 1;
+                assert!(off == 0.0 && (f * p - q.abs()).abs() < 1e-12, "node {j}");
+            } else if t.is_finite() {
+                kinds[1] += 1;
+                // A root: the pressure, or a stick node's slack on a side.
+                let roots = [
+                    p + t * a,
+                    f * (p + t * a) - (q + t * b),
+                    f * (p + t * a) + (q + t * b),
+                ];
+                let hit = roots.iter().take(if off == 0.0 { 3 } else { 1 });
+                assert!(
+                    hit.into_iter().any(|r| r.abs() < 1e-9),
+                    "node {j}: {roots:?}"
+                );
+            } else {
+                kinds[2] += 1;
+            }
+        }
+        assert!(kinds.iter().all(|&k| k > 0), "{kinds:?}");
+        let min = out.iter().fold(f64::INFINITY, |m, &x| m.min(x));
+        assert_eq!(lowest, min);
     }
 
     /// A move along the slip set gives the same bits in vectors of four
