@@ -553,13 +553,13 @@ mod tests {
         // Pressures in [0.5, 1.5) and shears inside the friction cone;
         // slip nodes (an infinite offset) every fifth; stick nodes at the
         // friction limit every seventh.
-        for j in 0..n {
-            v[0][j] += 1.5;
-            v[1][j] *= f * v[0][j];
-            v[6][j] = if j % 5 == 0 { f64::INFINITY } else { 0.0 };
-            if j % 7 == 0 {
-                v[1][j] = f * v[0][j];
-            }
+        let (p, rest) = v.split_at_mut(1);
+        for (j, (p, q)) in p[0].iter_mut().zip(&mut rest[0]).enumerate() {
+            *p += 1.5;
+            *q = if j % 7 == 0 { f * *p } else { *q * f * *p };
+        }
+        for (j, off) in v[6].iter_mut().enumerate() {
+            *off = if j % 5 == 0 { f64::INFINITY } else { 0.0 };
         }
         let along = [0.8, -0.6, 1.0];
         let mut out = vec![0.0; n];
