@@ -40,7 +40,7 @@ use super::solver::{
     fingerprint, same_directions, Advanced, Contact, ContactEnd, ContactError, SlipDirection,
     Solved, Workspace,
 };
-use super::solver::{DG_TOL, TRACTION_TOL};
+use super::solver::{node_to_hold, on_the_torque_limit, DG_TOL, MAX_HELD, TRACTION_TOL};
 use crate::model::LoadPoint;
 
 /// A stick node at the limit leaves it only if the slack `f p - |q|` falls
@@ -54,8 +54,6 @@ const RATE_TOL: f64 = 1e-13;
 /// (far wider than the round-off in which the branch-free times and the
 /// exact test can differ).
 const EVENT_TIES: f64 = 1e-9;
-/// `|y|` within this relative distance of `2 pi` is on the torque limit.
-const GROSS_TOL: f64 = 1e-9;
 
 /// `point` moved onto the torque limit: `|y|` the first number above
 /// `2 pi` in the direction `dy` (gross slip is `|y| > 2 pi`, model.md
@@ -240,6 +238,8 @@ pub(crate) struct Engine {
     candidates: Vec<usize>,
     before: Vec<SlipDirection>,
     seen: Vec<u64>,
+    /// Nodes held stuck where a trial set would hold every node.
+    held: Vec<usize>,
     full: Vec<f64>,
     hbuf: Vec<f64>,
     dbuf: Vec<f64>,
@@ -341,6 +341,7 @@ impl Engine {
             candidates: Vec::with_capacity(n),
             before: vec![SlipDirection::Stick; n],
             seen: Vec::new(),
+            held: Vec::with_capacity(MAX_HELD),
             full: z(),
             hbuf: z(),
             dbuf: z(),
@@ -823,7 +824,7 @@ impl Contact {
         if load_dy != 0.0 {
             let y = self.load.y();
             let limit = 2.0 * PI * load_dy.signum();
-            let t = if y.abs() >= 2.0 * PI * (1.0 - GROSS_TOL) && y * load_dy > 0.0 {
+            let t = if on_the_torque_limit(y) && y * load_dy > 0.0 {
                 0.0
             } else {
                 (limit - y) / load_dy
@@ -984,6 +985,7 @@ impl Contact {
         w.engine.trial.copy_from_slice(&self.directions);
         w.engine.before.copy_from_slice(&self.directions);
         w.engine.seen.clear();
+        w.engine.held.clear();
         let max_iterations = 4 * n + 20;
         let mut settled = false;
         // Whether the last iteration changed `trial` (so that it differs
@@ -1041,12 +1043,24 @@ impl Contact {
                 }
             }
             if slipping == n {
-                // All nodes at the limit: only possible on |y| = 2 pi.
-                return Err(if self.load.y().abs() >= 2.0 * PI * (1.0 - GROSS_TOL) {
-                    RateFailure::Gross
-                } else {
-                    RateFailure::NotSettled
-                });
+                // Every node at the limit: gross slip on |y| = 2 pi. Off it
+                // a node must stick: hold the slowest of the set, and if it
+                // then asks to slip, the next (`node_to_hold`).
+                if on_the_torque_limit(self.load.y()) {
+                    return Err(RateFailure::Gross);
+                }
+                let slipping_now = e
+                    .set
+                    .iter()
+                    .filter(|&&(j, _)| e.trial[j].is_slipping())
+                    .map(|&(j, _)| (j, e.rg[j].abs()));
+                match node_to_hold(slipping_now, &e.held) {
+                    Some(j) if e.held.len() < MAX_HELD => {
+                        e.trial[j] = SlipDirection::Stick;
+                        e.held.push(j);
+                    }
+                    _ => return Err(RateFailure::NotSettled),
+                }
             }
             if !changed {
                 settled = true;

@@ -197,6 +197,37 @@ pub(super) fn fingerprint(dirs: &[SlipDirection]) -> u64 {
 pub(super) const TRACTION_TOL: f64 = 1e-12;
 /// A slip node whose `s dg` is below `-DG_TOL * max|dg|` has reversed.
 pub(super) const DG_TOL: f64 = 1e-10;
+/// `|y|` within this relative distance of `2 pi` is on the torque limit.
+pub(super) const GROSS_TOL: f64 = 1e-9;
+/// Where a trial slip set would hold every node off the torque limit, one
+/// node is held stuck instead, and if that fails the next: at most this
+/// many in one search (model.md section 3.2, "Every node at the limit").
+pub(super) const MAX_HELD: usize = 8;
+
+/// Whether `y` is on the torque limit `|y| = 2 pi` (to [`GROSS_TOL`]).
+pub(super) fn on_the_torque_limit(y: f64) -> bool {
+    y.abs() >= 2.0 * PI * (1.0 - GROSS_TOL)
+}
+
+/// The node to hold stuck where a trial set would hold every node off the
+/// torque limit: of `slipping` (node, how fast it slips or how far it is
+/// past the limit), the least, among nodes not `held` already.
+///
+/// With every node slipping, the slip rates are fixed only up to a rigid
+/// rotation, which changes no traction, so the `N` equations of the set
+/// have `N - 1` effective unknowns and in general no solution: some node
+/// must stick. Where the last stick node reaches the limit beside a zone
+/// slipping the other way, the stick zone moves over by a node: the
+/// neighbour on the other side, the slowest node of that zone, sticks.
+pub(super) fn node_to_hold(
+    slipping: impl Iterator<Item = (usize, f64)>,
+    held: &[usize],
+) -> Option<usize> {
+    slipping
+        .filter(|(j, _)| !held.contains(j))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(j, _)| j)
+}
 
 /// The result of solving one increment, not yet committed.
 #[derive(Debug, Clone)]
@@ -548,8 +579,9 @@ impl Contact {
 
         let max_iterations = 4 * n + 20;
         let mut seen: Vec<u64> = Vec::new();
+        let mut held: Vec<usize> = Vec::new();
         let mut factorisations = 0;
-        let mut dg = vec![0.0; n];
+        let mut dg = vec![0.0f64; n];
         let mut p = w.p0.clone();
         let mut q = w.q0.clone();
         for iteration in 1..=max_iterations {
@@ -560,7 +592,33 @@ impl Contact {
                     .map(|j| (j, dirs[j].sign())),
             );
             if w.set.len() == n {
-                return Ok(Solved::Ended(ContactEnd::GrossSlip { load }));
+                if on_the_torque_limit(load.y()) {
+                    return Ok(Solved::Ended(ContactEnd::GrossSlip { load }));
+                }
+                // Off the torque limit not every node can slip: hold the
+                // slowest node of the last pass (before any pass, the node
+                // least past the limit) and try again; `node_to_hold`.
+                let passed = dg.iter().any(|&d| d != 0.0);
+                let slipping =
+                    w.set
+                        .iter()
+                        .filter(|&&(j, _)| !passed || dg[j] != 0.0)
+                        .map(|&(j, _)| {
+                            let key = if passed {
+                                dg[j].abs()
+                            } else {
+                                w.q0[j].abs() - f * w.p0[j]
+                            };
+                            (j, key)
+                        });
+                match node_to_hold(slipping, &held) {
+                    Some(j) if held.len() < MAX_HELD => {
+                        dirs[j] = SlipDirection::Stick;
+                        held.push(j);
+                        continue;
+                    }
+                    _ => break,
+                }
             }
             dg.fill(0.0);
             p.copy_from_slice(&w.p0);
