@@ -544,7 +544,37 @@ impl Contact {
         self.slip.iter().sum::<f64>() / self.slip.len() as f64
     }
 
-    /// Solve the increment to `load` without committing it.
+    /// Solve the increment to `load` in one finite step, without
+    /// committing it (model.md section 3.2): the active-set iteration from
+    /// the last increment's slip set. Events inside the step are not
+    /// located ([`Contact::advance`] finds them exactly).
+    ///
+    /// It ends in [`ContactEnd::GrossSlip`] only where every node slips and
+    /// `load` is on or past the torque limit `|y| = 2 pi` (reported at
+    /// `load`, not at the crossing); off it, a node is held stuck where a
+    /// trial set would hold every node. [`ContactEnd::Separation`] is
+    /// reported where the solution makes `p < 0`, and
+    /// [`ContactError::NotSettled`] where the iteration finds no consistent
+    /// set (a shorter step then helps).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use shakedown::contact::Solved;
+    /// use shakedown::stepping::operators;
+    /// use shakedown::{Contact, ContactEnd, Discretisation, LoadPoint, Material};
+    ///
+    /// let mut contact = Contact::new(Material::paper(), operators(&Discretisation::default()));
+    /// // Past the stick diamond |x| + |y| <= 2 pi some nodes slip.
+    /// let Ok(Solved::Trial(trial)) = contact.solve(LoadPoint::new(1.0, 5.8)) else {
+    ///     panic!("a partial slip step settles");
+    /// };
+    /// assert!(trial.directions.iter().any(|d| d.is_slipping()));
+    /// contact.commit(trial);
+    /// // Past |y| = 2 pi the whole interface slides.
+    /// let end = contact.solve(LoadPoint::new(1.0, 7.0)).unwrap();
+    /// assert!(matches!(end, Solved::Ended(ContactEnd::GrossSlip { .. })));
+    /// ```
     pub fn solve(&mut self, load: LoadPoint) -> Result<Solved, ContactError> {
         let n = self.nodes();
         let f = self.material.friction();
