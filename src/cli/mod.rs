@@ -536,8 +536,23 @@ fn clap_one_line(e: &clap::Error) -> String {
         lines.join(" ")
     };
     let first = joined.strip_prefix("error: ").unwrap_or(&joined);
+    // The help of the subcommand that refused it: its usage line names it
+    // ("Usage: shakedown sweep [OPTIONS]").
+    let command = text
+        .lines()
+        .map(str::trim)
+        .find_map(|l| l.strip_prefix("Usage:"))
+        .map(|usage| {
+            usage
+                .split_whitespace()
+                .take_while(|w| !w.starts_with(['[', '<', '-']))
+                .collect::<Vec<_>>()
+                .join(" ")
+        })
+        .filter(|c| c.starts_with("shakedown"))
+        .unwrap_or_else(|| "shakedown".to_string());
     format!(
-        "{} (see shakedown --help)",
+        "{} (see {command} --help)",
         shakedown::io::read::escape_text(first, 500)
     )
 }

@@ -984,3 +984,19 @@ fn issue11_14g_large_discretisations_warn_with_a_time() {
         "{stderr}"
     );
 }
+
+/// A flag a subcommand does not have points to that subcommand's help
+/// (where the flags it has are listed), and clap's hint of a near name
+/// stays on the one line.
+#[test]
+fn an_unknown_flag_points_to_the_help_of_its_subcommand() {
+    rejected(
+        &["sweep", "--poisson", "0"],
+        &["'--poisson'", "(see shakedown sweep --help)"],
+    );
+    rejected(
+        &["run", "--lamda", "5"],
+        &["'--lamda'", "'--lambda'", "(see shakedown run --help)"],
+    );
+    rejected(&["--bogus"], &["'--bogus'", "(see shakedown --help)"]);
+}
