@@ -536,20 +536,17 @@ fn clap_one_line(e: &clap::Error) -> String {
         lines.join(" ")
     };
     let first = joined.strip_prefix("error: ").unwrap_or(&joined);
-    // The help of the subcommand that refused it: its usage line names it
-    // ("Usage: shakedown sweep [OPTIONS]").
-    let command = text
-        .lines()
-        .map(str::trim)
-        .find_map(|l| l.strip_prefix("Usage:"))
-        .map(|usage| {
-            usage
-                .split_whitespace()
-                .take_while(|w| !w.starts_with(['[', '<', '-']))
-                .collect::<Vec<_>>()
-                .join(" ")
+    // The help of the subcommand that refused it (the first argument, where
+    // it names one): that is where its flags are listed.
+    // (`args_os`: an argument that is not UTF-8 is a syntax error too.)
+    let command = std::env::args_os()
+        .nth(1)
+        .and_then(|first| {
+            use clap::CommandFactory;
+            Cli::command()
+                .find_subcommand(first.to_str()?)
+                .map(|c| format!("shakedown {}", c.get_name()))
         })
-        .filter(|c| c.starts_with("shakedown"))
         .unwrap_or_else(|| "shakedown".to_string());
     format!(
         "{} (see {command} --help)",

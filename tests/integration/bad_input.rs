@@ -958,8 +958,8 @@ fn issue11_14e_figure_flags_and_presets_agree() {
 
 #[test]
 fn issue11_14f_a_missing_argument_is_named() {
-    rejected(&["merge"], &["SHARD.csv", "shakedown --help"]);
-    rejected(&["figure"], &["NAME|FILE", "shakedown --help"]);
+    rejected(&["merge"], &["SHARD.csv", "(see shakedown merge --help)"]);
+    rejected(&["figure"], &["NAME|FILE", "(see shakedown figure --help)"]);
 }
 
 #[test]
@@ -999,4 +999,9 @@ fn an_unknown_flag_points_to_the_help_of_its_subcommand() {
         &["'--lamda'", "'--lambda'", "(see shakedown run --help)"],
     );
     rejected(&["--bogus"], &["'--bogus'", "(see shakedown --help)"]);
+    // A flag without its value, too.
+    rejected(
+        &["sweep", "--nodes"],
+        &["'--nodes <N>'", "(see shakedown sweep --help)"],
+    );
 }
