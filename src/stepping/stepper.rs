@@ -1048,11 +1048,30 @@ impl Stepper {
         self.status = Status::Ended(summary);
     }
 
+    /// The initial path has just reached the cycle centre `A`. A sweep
+    /// starts every `lambda` and `phi` of an initial path from one contact
+    /// prepared at `A` ([`Stepper::prepare_at_center`]), cloned, and a
+    /// clone keeps the state but not the solver's caches (the slip rates of
+    /// the sets met so far, the factors of the reduced inverse). Those
+    /// decide only the round-off of the rates, not what the rates are, but
+    /// the round-off is then not the same as in a run that kept them.
+    /// Dropping them here too, the same way, makes a run from `O` give the
+    /// very numbers of the sweep's row for the same case: `run`, `sweep`
+    /// and the explorer agree to the last digit.
+    fn arrived_at_center(&mut self) {
+        self.contact = self.contact.clone();
+    }
+
     /// Advance the position on the path, closing cycles as they end.
     fn move_on(&mut self, report: &mut StepReport) {
         match self.phase {
             Phase::Transient { segment, increment } => {
                 let next = increment + self.span;
+                if next >= self.transient[segment].increments
+                    && self.transient[segment].to == self.cycle.center()
+                {
+                    self.arrived_at_center();
+                }
                 if next < self.transient[segment].increments {
                     self.phase = Phase::Transient {
                         segment,

@@ -52,3 +52,62 @@ fn same_bytes_whatever_the_thread_count() {
     assert!(rows[3].starts_with(&format!("4.8,{},\"OA\",", PI / 2.0)));
     assert!(rows[6].starts_with("5.5,0,\"OA\","));
 }
+
+/// `shakedown run` of one case gives the very numbers of that case's row in
+/// a sweep: the sweep starts every `lambda` and `phi` of an initial path
+/// from one contact prepared at `A`, and a run from `O` passes through the
+/// same state there, solver caches included. (The cases are ones whose `W`
+/// differed in the last digits while a run kept the caches of its initial
+/// path and the sweep did not.)
+#[test]
+fn a_run_gives_the_numbers_of_its_sweep_row() {
+    let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args([
+            "sweep",
+            "--lambda",
+            "5.05,6.85,7.05",
+            "--phi",
+            "0,0.3pi",
+            "--initial",
+            "7,-7,-5,5,-7,3",
+        ])
+        .env("RAYON_NUM_THREADS", "2")
+        .output()
+        .expect("the binary runs");
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let rows: Vec<&str> = text
+        .lines()
+        .skip_while(|l| l.starts_with('#'))
+        .skip(1)
+        .collect();
+    assert_eq!(rows.len(), 3 * 2 * 3);
+    let number = |s: &str| -> f64 { s.parse().unwrap_or_else(|_| panic!("a number: '{s}'")) };
+    for row in rows {
+        // lambda,phi,"initial",state,dissipation,cycles,rotation_per_cycle
+        let (head, rest) = row.split_once(",\"").unwrap();
+        let (initial, rest) = rest.split_once("\",").unwrap();
+        let (lambda, phi) = head.split_once(',').unwrap();
+        let fields: Vec<&str> = rest.split(',').collect();
+        let run = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+            .args(["run", "--lambda", lambda, "--phi", phi, "--json"])
+            .arg(format!("--initial={initial}"))
+            .output()
+            .expect("the binary runs");
+        assert!(run.status.success(), "{row}");
+        let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+        assert_eq!(json["state"], fields[0], "{row}");
+        assert_eq!(json["cycles"], number(fields[2]) as u64, "{row}");
+        for (key, text) in [
+            ("dissipation", fields[1]),
+            ("rotation_per_cycle", fields[3]),
+        ] {
+            let from_run = json[key].as_f64().unwrap();
+            assert_eq!(
+                from_run.to_bits(),
+                number(text).to_bits(),
+                "{key} of {row}: run gives {from_run:e}"
+            );
+        }
+    }
+}
