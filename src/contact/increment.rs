@@ -55,6 +55,11 @@ const RATE_TOL: f64 = 1e-13;
 /// exact test can differ).
 const EVENT_TIES: f64 = 1e-9;
 
+/// A slip set of fewer than `N / SET_LOOP_SHARE` nodes has its slip moved
+/// node by node (indexed, about 20 instructions a node); a larger one by a
+/// vectorised pass over all `N` nodes (about 3 a node).
+const SET_LOOP_SHARE: usize = 8;
+
 /// `point` moved onto the torque limit: `|y|` the first number above
 /// `2 pi` in the direction `dy` (gross slip is `|y| > 2 pi`, model.md
 /// section 2), `x` unchanged.
@@ -233,6 +238,10 @@ pub(crate) struct Engine {
     /// begins, and the segment after it begins, with the combination just
     /// made: two passes over the nodes per event that need not be made.
     rg_for: Option<(f64, f64)>,
+    /// `(max |rg|, min sgn rg)` of the present `rg` and signs, once asked
+    /// for ([`Engine::rate_extremes`]): a settled rate problem and the scan
+    /// of the segment after it ask for the same.
+    rg_extremes: Option<(f64, f64)>,
     /// Rate-problem scratch.
     trial: Vec<SlipDirection>,
     candidates: Vec<usize>,
@@ -257,6 +266,17 @@ impl Engine {
         } else {
             (-uy, ux)
         }
+    }
+
+    /// `(max |rg|, min sgn rg)` over the nodes: the largest slip rate
+    /// along the segment and the most negative along its slip direction,
+    /// in one vectorised pass (the rates and signs are 0 off the set, so
+    /// these are the set's; a NaN is skipped, as `f64::max` skips it), and
+    /// kept until `rg` or the set changes.
+    fn rate_extremes(&mut self) -> (f64, f64) {
+        *self
+            .rg_extremes
+            .get_or_insert_with(|| rate_extremes(&self.rg, &self.sgn))
     }
 
     /// Total responses to the direction of `axis`.
@@ -337,6 +357,7 @@ impl Engine {
             margins: z(),
             rg: z(),
             rg_for: None,
+            rg_extremes: None,
             trial: vec![SlipDirection::Stick; n],
             candidates: Vec::with_capacity(n),
             before: vec![SlipDirection::Stick; n],
@@ -575,6 +596,8 @@ impl Contact {
     fn responses_for_trial(&mut self, w: &mut Workspace, dx: f64, dy: f64) -> bool {
         let e = &mut w.engine;
         e.dirs.copy_from_slice(&e.trial);
+        // The signs change below.
+        e.rg_extremes = None;
         // The per-node views of the set differ from those of a stick node
         // on the set only: reset the old set's nodes, then mark the new.
         for &(j, _) in &e.set {
@@ -734,6 +757,7 @@ impl Contact {
         }
         kernels::combine(&mut e.rg, dx, &e.gx, dy, &e.gy);
         e.rg_for = Some((dx, dy));
+        e.rg_extremes = None;
     }
 
     /// The first event in `(0, remaining]` of the segment with the cached
@@ -748,21 +772,21 @@ impl Contact {
         remaining: f64,
     ) -> (Stop, f64, bool) {
         let f = self.material.friction();
-        let mut margins = std::mem::take(&mut w.engine.margins);
-        let e = &w.engine;
-        let mut t_min = remaining;
-        let mut stop = Stop::End;
-        let mut need_rates = false;
-        let n = e.tpx.len();
-        if !e.set.is_empty() {
+        let t_min = remaining;
+        if !w.engine.set.is_empty() {
             // A slip rate against its direction: the set must be decided
             // anew here, and the segment is scanned again after that.
-            let (scale, worst) = rate_extremes(&e.rg[..n], &e.sgn[..n]);
+            let (scale, worst) = w.engine.rate_extremes();
             if worst < -DG_TOL * scale {
-                w.engine.margins = margins;
                 return (Stop::End, t_min, true);
             }
         }
+        let mut margins = std::mem::take(&mut w.engine.margins);
+        let e = &w.engine;
+        let mut t_min = t_min;
+        let mut stop = Stop::End;
+        let mut need_rates = false;
+        let n = e.tpx.len();
         let (p, q) = (&self.pressure[..n], &self.shear[..n]);
         let (tpx, tpy, tqx, tqy) = (&e.tpx[..n], &e.tpy[..n], &e.tqx[..n], &e.tqy[..n]);
         let v = [p, q, tpx, tpy, tqx, tqy, &e.off[..n]];
@@ -907,13 +931,26 @@ impl Contact {
             kernels::tractions(elastic, parts, &mut self.pressure, &mut self.shear);
             return;
         }
-        // Slip, and its forward and backward parts, change on the set only.
+        // Slip, and its forward and backward parts, change on the set only:
+        // a loop over the set's indices when it is small, else one
+        // vectorised pass over every node (the rates are 0 off the set, so
+        // the two give the same numbers).
         let inc = &mut self.increment;
-        for &(j, _) in &e.set {
-            let dg = t * e.rg[j];
-            self.slip[j] += dg;
-            inc.forward[j] += dg.max(0.0);
-            inc.backward[j] += (-dg).max(0.0);
+        if e.set.len() * SET_LOOP_SHARE < n {
+            for &(j, _) in &e.set {
+                let dg = t * e.rg[j];
+                self.slip[j] += dg;
+                inc.forward[j] += dg.max(0.0);
+                inc.backward[j] += (-dg).max(0.0);
+            }
+        } else {
+            kernels::add_slip(
+                t,
+                &e.rg,
+                &mut self.slip,
+                &mut inc.forward,
+                &mut inc.backward,
+            );
         }
         inc.slipped = true;
         // One pass over the nodes: the residual tractions move with the
@@ -1005,21 +1042,22 @@ impl Contact {
             };
             self.combine(w, a1, a2);
             let e = &mut w.engine;
-            // (A plain comparison, which skips a NaN as `f64::max` does,
-            // in fewer instructions a node.)
-            let scale =
-                e.set
-                    .iter()
-                    .map(|&(j, _)| e.rg[j].abs())
-                    .fold(0.0, |m, r| if r > m { r } else { m });
+            // The largest rate and the most negative rate along its slip
+            // direction, in one vectorised pass over all the nodes (the
+            // rates and signs are 0 off the set, so these are the set's;
+            // a NaN is skipped, as `f64::max` skips it). Only when some
+            // rate opposes its direction are the set's nodes visited.
+            let (scale, worst) = e.rate_extremes();
             changed = false;
             // The slip set of `trial` as it leaves this iteration.
             let mut slipping = e.set.len();
-            for &(j, sg) in &e.set {
-                if sg * e.rg[j] < -DG_TOL * scale {
-                    e.trial[j] = SlipDirection::Stick;
-                    changed = true;
-                    slipping -= 1;
+            if worst < -DG_TOL * scale {
+                for &(j, sg) in &e.set {
+                    if sg * e.rg[j] < -DG_TOL * scale {
+                        e.trial[j] = SlipDirection::Stick;
+                        changed = true;
+                        slipping -= 1;
+                    }
                 }
             }
             // Stick nodes at the friction limit: elsewhere (off the limit on

@@ -363,6 +363,16 @@ fn columns(lu: &[f64], ld: usize, k: usize, jb: usize, w: usize) -> [&[f64]; 4] 
 #[inline(always)]
 fn block(cols: [&[f64]; 4], jb: usize, w: usize) -> [[f64; 4]; 4] {
     let mut b = [[0.0; 4]; 4];
+    if w == 4 {
+        // A whole block (all but the last): one bounds check a column.
+        for (t, col) in cols.iter().enumerate() {
+            let c: &[f64; 4] = col[jb..jb + 4].try_into().expect("four rows");
+            for (row, &v) in b.iter_mut().zip(c) {
+                row[t] = v;
+            }
+        }
+        return b;
+    }
     for t in 0..w {
         for (i, row) in b.iter_mut().enumerate().take(w) {
             row[t] = cols[t][jb + i];

@@ -103,6 +103,23 @@ wide! {
     }
 }
 
+wide! {
+    /// `slip += t r`, and the positive and negative parts of `t r` into
+    /// `forward` and `backward`, at every node: the slip of a sub-segment
+    /// from its rates `r` (0 off the slip set, where this adds exactly
+    /// nothing). Branch-free and in vectors, it costs less than a loop over
+    /// the set's indices unless the set is a small part of the circle.
+    fn add_slip<'a>(t: f64, r: &'a [f64], slip: &'a mut [f64], forward: &'a mut [f64], backward: &'a mut [f64]) -> () {
+        let nodes = r.iter().zip(slip.iter_mut()).zip(forward.iter_mut()).zip(backward.iter_mut());
+        for (((&r, g), fw), bw) in nodes {
+            let dg = t * r;
+            *g += dg;
+            *fw += dg.max(0.0);
+            *bw += (-dg).max(0.0);
+        }
+    }
+}
+
 /// The loads' part of the tractions at a load point: `p = 1 - pr sin` and
 /// `q = -qt - qr cos` (model.md section 2), per unit of the radial force
 /// and torque terms.
@@ -602,6 +619,35 @@ mod tests {
         assert!(kinds.iter().all(|&k| k > 0), "{kinds:?}");
         let min = out.iter().fold(f64::INFINITY, |m, &x| m.min(x));
         assert_eq!(lowest, min);
+    }
+
+    /// The slip of a sub-segment by one pass over every node is, to the
+    /// bit, that of a loop over the slip set's nodes (the rates are 0 off
+    /// the set, where the pass must change nothing), tail included.
+    #[test]
+    fn add_slip_over_every_node_is_the_loop_over_the_set() {
+        let n = 131;
+        let mut rates = values(n, 50);
+        let set: Vec<usize> = (0..n).filter(|j| j % 3 != 0).collect();
+        for j in (0..n).step_by(3) {
+            rates[j] = if j % 2 == 0 { 0.0 } else { -0.0 };
+        }
+        let start = [values(n, 51), values(n, 52), values(n, 53)];
+        let t = 0.37;
+        let [mut slip, mut fw, mut bw] = start.clone();
+        add_slip(t, &rates, &mut slip, &mut fw, &mut bw);
+        let [mut slip_set, mut fw_set, mut bw_set] = start.clone();
+        for &j in &set {
+            let dg = t * rates[j];
+            slip_set[j] += dg;
+            fw_set[j] += dg.max(0.0);
+            bw_set[j] += (-dg).max(0.0);
+        }
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&slip), bits(&slip_set));
+        assert_eq!(bits(&fw), bits(&fw_set));
+        assert_eq!(bits(&bw), bits(&bw_set));
+        assert!(set.iter().any(|&j| slip[j] != start[0][j]));
     }
 
     /// A move along the slip set gives the same bits in vectors of four
