@@ -383,9 +383,29 @@ fn block(cols: [&[f64]; 4], jb: usize, w: usize) -> [[f64; 4]; 4] {
 
 #[inline(always)]
 fn block_of(x: &[f64], jb: usize, w: usize) -> [f64; 4] {
+    // Fixed sizes: a copy of a length known only at run time is a call to
+    // `memcpy`, five of them a block, a tenth of a pass at N = 128.
+    if w == 4 {
+        return x[jb..jb + 4].try_into().expect("four rows");
+    }
     let mut b = [0.0; 4];
-    b[..w].copy_from_slice(&x[jb..jb + w]);
+    for (bi, &xi) in b.iter_mut().zip(&x[jb..jb + w]) {
+        *bi = xi;
+    }
     b
+}
+
+/// The first `w` entries of `b` into `x` from row `jb` (the inverse of
+/// [`block_of`]).
+#[inline(always)]
+fn set_block(x: &mut [f64], jb: usize, w: usize, b: &[f64; 4]) {
+    if w == 4 {
+        x[jb..jb + 4].copy_from_slice(b);
+        return;
+    }
+    for (xi, &bi) in x[jb..jb + w].iter_mut().zip(b) {
+        *xi = bi;
+    }
 }
 
 /// `W x` over the block's own upper triangle: `sum_(t >= i) b[i][t] x[t]`.
@@ -426,7 +446,7 @@ impl Triangular<'_> {
                     let x = block_of(y, jb, w);
                     lanes.axpy4(&mut y[..jb], cols.map(|c| &c[..jb]), x.map(|e| -e), false);
                     let own = block_upper(&block(cols, jb, w), x);
-                    y[jb..jb + w].copy_from_slice(&own[..w]);
+                    set_block(y, jb, w, &own);
                 }
             }
             Pass::Border { u, r, l, v } => {
@@ -442,7 +462,7 @@ impl Triangular<'_> {
                             ub[t] = b[t][i].mul_add(-ub[i], ub[t]);
                         }
                     }
-                    u[jb..jb + w].copy_from_slice(&ub[..w]);
+                    set_block(u, jb, w, &ub);
                     // Above the block, in one pass over the columns:
                     // l = W^T r (dot products) and v = W u (updates).
                     let s = lanes.dot4_axpy4(
@@ -459,9 +479,9 @@ impl Triangular<'_> {
                             *acc = b[i][t].mul_add(rb[i], *acc);
                         }
                     }
-                    l[jb..jb + w].copy_from_slice(&lb[..w]);
+                    set_block(l, jb, w, &lb);
                     let vb = block_upper(&b, ub);
-                    v[jb..jb + w].copy_from_slice(&vb[..w]);
+                    set_block(v, jb, w, &vb);
                     // Below the block, four columns of L at once.
                     lanes.axpy4(&mut u[jb + w..k], cols.map(|c| &c[jb + w..k]), ub, false);
                 }

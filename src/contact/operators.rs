@@ -10,17 +10,23 @@ use std::f64::consts::PI;
 
 use std::sync::Arc;
 
-use faer::Mat;
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 
-/// Dense circulant matrices of `H` and `|D|` on `N` nodes, and the same
-/// operators applied by FFT for whole slip vectors.
+/// The circulant operators `H` and `|D|` on `N` nodes: their entries and
+/// columns, and the operators applied by FFT for whole slip vectors.
 #[derive(Clone)]
 pub struct Operators {
     nodes: usize,
-    hilbert: Mat<f64>,
-    abs_derivative: Mat<f64>,
+    /// The first column of `H`, twice over (`2N` numbers): column `k` of a
+    /// circulant matrix is its first column rotated down by `k`, so it is
+    /// the contiguous slice from `N - k` (see [`Self::hilbert_col`]). `N`
+    /// numbers stay in the first level of the cache where the dense matrix
+    /// (`N^2`, 8 MB at `N = 1024`) is read from memory, column by column, at
+    /// every change of the slip set.
+    hilbert: Vec<f64>,
+    /// The first column of `|D|`, twice over, as for `hilbert`.
+    abs_derivative: Vec<f64>,
     forward: Arc<dyn Fft<f64>>,
     inverse: Arc<dyn Fft<f64>>,
     /// Symbol of `|D| + i H` per FFT bin, with the `1/N` of the inverse.
@@ -62,8 +68,8 @@ impl Operators {
             *h = 2.0 * hs / n as f64;
             *d = (2.0 * ds + half as f64 * nyquist) / n as f64;
         }
-        let hilbert = Mat::from_fn(n, n, |j, k| h_first[(j + n - k) % n]);
-        let abs_derivative = Mat::from_fn(n, n, |j, k| d_first[(j + n - k) % n]);
+        let hilbert = [h_first.as_slice(), h_first.as_slice()].concat();
+        let abs_derivative = [d_first.as_slice(), d_first.as_slice()].concat();
         let mut planner = FftPlanner::new();
         // Bin k holds harmonic n = k (k < N/2) or k - N (k > N/2); the
         // combined symbol |n| + i (-i sgn n) = |n| + sgn n packs |D| g in the
@@ -140,33 +146,34 @@ impl Operators {
     /// `H[j, k]`: pressure at node `j` from unit slip at node `k`.
     #[inline]
     pub fn hilbert(&self, j: usize, k: usize) -> f64 {
-        self.hilbert[(j, k)]
+        self.hilbert_col(k)[j]
     }
 
     /// `|D|[j, k]`: shear relief at node `j` from unit slip at node `k`.
     #[inline]
     pub fn abs_derivative(&self, j: usize, k: usize) -> f64 {
-        self.abs_derivative[(j, k)]
+        self.abs_derivative_col(k)[j]
     }
 
-    /// Column `k` of `H`, contiguous.
+    /// Column `k` of `H`, contiguous: `H[j, k] = H[(j - k) mod N, 0]`.
     #[inline]
     pub fn hilbert_col(&self, k: usize) -> &[f64] {
-        self.hilbert
-            .col(k)
-            .try_as_col_major()
-            .expect("owned matrix columns are contiguous")
-            .as_slice()
+        Self::rotated(&self.hilbert, k)
     }
 
     /// Column `k` of `|D|`, contiguous.
     #[inline]
     pub fn abs_derivative_col(&self, k: usize) -> &[f64] {
-        self.abs_derivative
-            .col(k)
-            .try_as_col_major()
-            .expect("owned matrix columns are contiguous")
-            .as_slice()
+        Self::rotated(&self.abs_derivative, k)
+    }
+
+    /// Column `k` of the circulant matrix whose first column, twice over,
+    /// is `twice`: entry `j` is `twice[N - k + j]`.
+    #[inline]
+    fn rotated(twice: &[f64], k: usize) -> &[f64] {
+        let n = twice.len() / 2;
+        assert!(k < n, "column {k} of a circulant matrix on {n} nodes");
+        &twice[n - k..2 * n - k]
     }
 
     /// Residual pressure `H g`.
@@ -216,6 +223,27 @@ mod tests {
                 assert!((p[j] - sin[j]).abs() < 1e-11, "H, k={k}, j={j}");
                 assert!((q[j] + k * g[j]).abs() < 1e-10, "|D|, k={k}, j={j}");
             }
+        }
+    }
+
+    #[test]
+    fn columns_are_the_first_rotated() {
+        let n = 24;
+        let ops = Operators::new(n);
+        for k in 0..n {
+            let (h, d) = (ops.hilbert_col(k), ops.abs_derivative_col(k));
+            assert_eq!((h.len(), d.len()), (n, n));
+            for j in 0..n {
+                let first = (j + n - k) % n;
+                assert_eq!(h[j].to_bits(), ops.hilbert(first, 0).to_bits());
+                assert_eq!(d[j].to_bits(), ops.abs_derivative(first, 0).to_bits());
+                assert_eq!(h[j].to_bits(), ops.hilbert(j, k).to_bits());
+            }
+        }
+        // H is odd and |D| even in theta.
+        for m in 1..n {
+            assert!((ops.hilbert(m, 0) + ops.hilbert(n - m, 0)).abs() < 1e-12);
+            assert!((ops.abs_derivative(m, 0) - ops.abs_derivative(n - m, 0)).abs() < 1e-12);
         }
     }
 
