@@ -1284,16 +1284,9 @@ impl Contact {
 
 #[cfg(test)]
 mod tests {
-    use super::{Engine, SlipDirection};
+    use super::super::solver::tests::direction;
+    use super::Engine;
     use proptest::prelude::*;
-
-    fn direction() -> impl Strategy<Value = SlipDirection> {
-        prop_oneof![
-            Just(SlipDirection::Stick),
-            Just(SlipDirection::Forward),
-            Just(SlipDirection::Backward),
-        ]
-    }
 
     proptest! {
         /// After any sequence of changes, few or many, the set and the

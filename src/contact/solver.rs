@@ -789,11 +789,12 @@ impl Contact {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::{same_directions, SlipDirection};
     use proptest::prelude::*;
 
-    fn direction() -> impl Strategy<Value = SlipDirection> {
+    /// Any of the three directions of a node.
+    pub(in crate::contact) fn direction() -> impl Strategy<Value = SlipDirection> {
         prop_oneof![
             Just(SlipDirection::Stick),
             Just(SlipDirection::Forward),
