@@ -384,13 +384,18 @@ fn block(cols: [&[f64]; 4], jb: usize, w: usize) -> [[f64; 4]; 4] {
 #[inline(always)]
 fn block_of(x: &[f64], jb: usize, w: usize) -> [f64; 4] {
     // Fixed sizes: a copy of a length known only at run time is a call to
-    // `memcpy`, five of them a block, a tenth of a pass at N = 128.
+    // `memcpy` (LLVM makes one of a plain loop over `w` entries, and merges
+    // it with the copy of four), five of them a block, a tenth of a pass
+    // at N = 128. The short tail is copied entry by entry under a test.
     if w == 4 {
         return x[jb..jb + 4].try_into().expect("four rows");
     }
+    // The first `w` (< 4) entries, each in its own load.
     let mut b = [0.0; 4];
-    for (bi, &xi) in b.iter_mut().zip(&x[jb..jb + w]) {
-        *bi = xi;
+    for (i, bi) in b.iter_mut().enumerate().take(3) {
+        if i < w {
+            *bi = x[jb + i];
+        }
     }
     b
 }
@@ -400,11 +405,15 @@ fn block_of(x: &[f64], jb: usize, w: usize) -> [f64; 4] {
 #[inline(always)]
 fn set_block(x: &mut [f64], jb: usize, w: usize, b: &[f64; 4]) {
     if w == 4 {
-        x[jb..jb + 4].copy_from_slice(b);
+        let to: &mut [f64; 4] = (&mut x[jb..jb + 4]).try_into().expect("four rows");
+        *to = *b;
         return;
     }
-    for (xi, &bi) in x[jb..jb + w].iter_mut().zip(b) {
-        *xi = bi;
+    // The first `w` (< 4) entries, each in its own store.
+    for (i, &bi) in b.iter().enumerate().take(3) {
+        if i < w {
+            x[jb + i] = bi;
+        }
     }
 }
 
