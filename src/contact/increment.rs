@@ -197,10 +197,8 @@ pub(crate) struct Engine {
     /// The slip set of the cached responses, and as `(node, sign)`.
     dirs: Vec<SlipDirection>,
     set: Vec<(usize, f64)>,
-    /// Scratch of a change of set: the nodes whose direction changes, and
-    /// the new set.
+    /// Scratch of a change of set: the nodes whose direction changes.
     changes: Vec<usize>,
-    next_set: Vec<(usize, f64)>,
     /// The two load directions of the responses: `u1` the direction of the
     /// segment on which the set was decided, `u2` its perpendicular (the
     /// fields named `..x` / `..y` below hold the responses to `u1` / `u2`).
@@ -267,11 +265,17 @@ impl Engine {
     ///
     /// A set changes by a node or two at a time, so only the nodes whose
     /// direction changes are visited: they are found by comparing the
-    /// directions sixteen at a time, branch-free, and merged into the set
-    /// in node order (a test per node of all `N` was a twentieth of a
-    /// sweep's time).
+    /// directions sixteen at a time, branch-free (a test per node of all
+    /// `N` was a twentieth of a sweep's time). A few changes are edited
+    /// into the set where they belong (a binary search and a short move
+    /// each); merging the whole set with them, as before, was a fifteenth
+    /// of a sweep's time. Many changes at once make the set afresh from the
+    /// directions.
     fn change_set_to_trial(&mut self) {
         const CHUNK: usize = 16;
+        /// Past this many changes one pass over the directions is cheaper
+        /// than an edit per change.
+        const FEW: usize = 8;
         let mut changes = std::mem::take(&mut self.changes);
         changes.clear();
         for (c, (now, next)) in self
@@ -289,36 +293,35 @@ impl Engine {
                 changes.extend(differ.map(|(i, _)| c * CHUNK + i));
             }
         }
-        if changes.is_empty() {
-            self.changes = changes;
-            return;
+        if changes.len() > FEW {
+            self.set.clear();
+            let slipping = self
+                .trial
+                .iter()
+                .enumerate()
+                .filter(|(_, d)| d.is_slipping());
+            self.set.extend(slipping.map(|(j, d)| (j, d.sign())));
         }
-        // The set without the changed nodes, merged with those that slip.
-        let trial = &self.trial;
-        let slipping = |j: usize| trial[j].is_slipping().then(|| (j, trial[j].sign()));
-        let mut merged = std::mem::take(&mut self.next_set);
-        merged.clear();
-        let mut pending = changes.iter().copied().peekable();
-        for &(j, sign) in &self.set {
-            while let Some(c) = pending.next_if(|&c| c < j) {
-                merged.extend(slipping(c));
-            }
-            if pending.next_if_eq(&j).is_some() {
-                merged.extend(slipping(j));
-            } else {
-                merged.push((j, sign));
-            }
-        }
-        merged.extend(pending.filter_map(slipping));
         for &j in &changes {
             let d = self.trial[j];
-            self.dirs[j] = d;
             let slips = d.is_slipping();
+            if changes.len() <= FEW {
+                let at = self.set.partition_point(|&(i, _)| i < j);
+                let present = self.set.get(at).is_some_and(|&(i, _)| i == j);
+                match (present, slips) {
+                    (true, true) => self.set[at].1 = d.sign(),
+                    (true, false) => {
+                        self.set.remove(at);
+                    }
+                    (false, true) => self.set.insert(at, (j, d.sign())),
+                    (false, false) => {}
+                }
+            }
+            self.dirs[j] = d;
             self.stick[j] = !slips;
             self.sgn[j] = if slips { d.sign() } else { 0.0 };
             self.off[j] = if slips { f64::INFINITY } else { 0.0 };
         }
-        self.next_set = std::mem::replace(&mut self.set, merged);
         self.changes = changes;
     }
 
@@ -401,7 +404,6 @@ impl Engine {
             dirs: vec![SlipDirection::Stick; n],
             set: Vec::with_capacity(n),
             changes: Vec::with_capacity(n),
-            next_set: Vec::with_capacity(n),
             gx: z(),
             gy: z(),
             hpx: z(),
