@@ -669,6 +669,9 @@ impl Contact {
         e.u1 = (dx, dy);
         e.have2 = false;
         e.change_set_to_trial();
+        // The inverse follows the set only when it solves (a hit does not
+        // ask it): it looks at the nodes changed since then, not at all.
+        w.inverse.note_changes(&e.changes);
         if e.set.is_empty() {
             e.rg_for = None;
             for v in [
