@@ -252,8 +252,6 @@ pub(crate) struct Engine {
     /// Nodes held stuck where a trial set would hold every node.
     held: Vec<usize>,
     full: Vec<f64>,
-    hbuf: Vec<f64>,
-    dbuf: Vec<f64>,
     /// Slip rates of recently seen sets, and the entry of the current one.
     cache: ResponseCache,
     slot: Option<usize>,
@@ -362,18 +360,18 @@ impl Engine {
     /// `full` (zero off the set): `H g'` and `-|D| g'` by FFT, and totals.
     fn fill_axis(&mut self, ops: &Operators, fft: &mut FftScratch, axis: usize) {
         self.rg_for = None;
-        ops.apply_both(&self.full, &mut self.hbuf, &mut self.dbuf, fft);
         let (g, hp, hq) = if axis == 0 {
             (&mut self.gx, &mut self.hpx, &mut self.hqx)
         } else {
             (&mut self.gy, &mut self.hpy, &mut self.hqy)
         };
+        // Straight into place: `H g'`, and `|D| g'` negated where it lies.
+        ops.apply_both(&self.full, hp, hq, fft);
+        for o in hq.iter_mut() {
+            *o = -*o;
+        }
         // `full` is filled afresh before each use: hand its buffer over.
         std::mem::swap(g, &mut self.full);
-        hp.copy_from_slice(&self.hbuf);
-        for (o, &d) in hq.iter_mut().zip(&self.dbuf) {
-            *o = -d;
-        }
         self.totals(axis);
     }
 
@@ -432,8 +430,6 @@ impl Engine {
             seen: Vec::new(),
             held: Vec::with_capacity(MAX_HELD),
             full: z(),
-            hbuf: z(),
-            dbuf: z(),
             cache: ResponseCache::new(cache::DEFAULT_BUDGET),
             slot: None,
         }

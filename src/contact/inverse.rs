@@ -351,10 +351,13 @@ impl pulp::WithSimd for Triangular<'_> {
 /// dot product dropped).
 #[inline(always)]
 fn columns(lu: &[f64], ld: usize, k: usize, jb: usize, w: usize) -> [&[f64]; 4] {
-    std::array::from_fn(|t| {
+    // Written out: `std::array::from_fn` here stayed a call per block (a
+    // seventieth of a sweep's instructions).
+    let col = |t: usize| {
         let c = jb + t.min(w - 1);
         &lu[c * ld..c * ld + k]
-    })
+    };
+    [col(0), col(1), col(2), col(3)]
 }
 
 /// The block's own entries, `b[i][t]` at row `jb + i` and column
