@@ -37,8 +37,8 @@ use super::cache::{self, ResponseCache};
 use super::kernels::{self, at_limit, end_margins, event_times, rate_extremes, SCREEN};
 use super::operators::{FftScratch, Operators};
 use super::solver::{
-    fingerprint, same_directions, Advanced, Contact, ContactEnd, ContactError, SlipDirection,
-    Solved, Workspace,
+    fingerprint, push_differences, same_directions, Advanced, Contact, ContactEnd, ContactError,
+    SlipDirection, Solved, Workspace,
 };
 use super::solver::{node_to_hold, on_the_torque_limit, DG_TOL, MAX_HELD, TRACTION_TOL};
 use crate::model::LoadPoint;
@@ -270,27 +270,12 @@ impl Engine {
     /// of a sweep's time. Many changes at once make the set afresh from the
     /// directions.
     fn change_set_to_trial(&mut self) {
-        const CHUNK: usize = 16;
         /// Past this many changes one pass over the directions is cheaper
         /// than an edit per change.
         const FEW: usize = 8;
         let mut changes = std::mem::take(&mut self.changes);
         changes.clear();
-        for (c, (now, next)) in self
-            .dirs
-            .chunks(CHUNK)
-            .zip(self.trial.chunks(CHUNK))
-            .enumerate()
-        {
-            if !same_directions(now, next) {
-                let differ = now
-                    .iter()
-                    .zip(next)
-                    .enumerate()
-                    .filter(|(_, (a, b))| a != b);
-                changes.extend(differ.map(|(i, _)| c * CHUNK + i));
-            }
-        }
+        push_differences(&self.dirs, &self.trial, &mut changes);
         if changes.len() > FEW {
             self.set.clear();
             let slipping = self
@@ -865,7 +850,21 @@ impl Contact {
             bound = SCREEN;
         }
         if lowest < bound {
-            for (j, &m) in margins[..n].iter().enumerate() {
+            // Chunks with no node below the bound (nearly all: an event
+            // involves a node or two) are passed over branch-free.
+            const CHUNK: usize = 16;
+            let below = |chunk: &[f64]| chunk.iter().fold(false, |acc, &m| acc | (m < bound));
+            let candidates = margins[..n]
+                .chunks(CHUNK)
+                .enumerate()
+                .filter(|(_, chunk)| below(chunk))
+                .flat_map(|(c, chunk)| {
+                    chunk
+                        .iter()
+                        .enumerate()
+                        .map(move |(i, &m)| (c * CHUNK + i, m))
+                });
+            for (j, m) in candidates {
                 if m < bound {
                     self.locate(
                         w,
@@ -1170,19 +1169,18 @@ impl Contact {
             self.directions.copy_from_slice(&e.dirs);
             self.increment.set_changed = true;
             let load = self.load;
-            // One pass: a node that changed entered slip if it stuck
-            // before, and stuck (or turned) if it slipped.
+            // A node that changed entered slip if it stuck before, and
+            // stuck (or turned) if it slipped.
             let mut entered = self.increment.node_list();
             let mut stuck = self.increment.node_list();
-            for (j, (b, d)) in e.before.iter().zip(&e.dirs).enumerate() {
-                if b != d {
-                    if b.is_slipping() {
-                        stuck.push(j);
-                    } else {
-                        entered.push(j);
-                    }
+            push_differences(&e.before, &e.dirs, &mut entered);
+            entered.retain(|&j| {
+                let slipped = e.before[j].is_slipping();
+                if slipped {
+                    stuck.push(j);
                 }
-            }
+                !slipped
+            });
             for (kind, nodes) in [
                 (ContactEventKind::AdvancingStick, stuck),
                 (ContactEventKind::SlipEntry, entered),
