@@ -21,20 +21,15 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 use std::ops::Range;
 
-/// The hasher of [`ResponseCache`]'s index, whose keys are FNV-1a hashes of
-/// the sets already: hashing them again with the standard SipHash was most
-/// of the cost of a lookup. Only the high bits of an FNV-1a hash mix all the
-/// input bits, so they are folded onto the low bits (the table's bucket
-/// index) with a multiply and shift (the finaliser of SplitMix64).
+/// The hasher of [`ResponseCache`]'s index, whose keys are hashes of the
+/// sets already ([`SetKey`]), every bit of them mixed: hashing them again
+/// with the standard SipHash was most of the cost of a lookup.
 #[derive(Default)]
 struct Prehashed(u64);
 
 impl Hasher for Prehashed {
     fn finish(&self) -> u64 {
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0
     }
 
     fn write(&mut self, bytes: &[u8]) {
@@ -120,9 +115,6 @@ pub(crate) struct ResponseCache {
     /// Pool entries no entry refers to any more (an entry replaced),
     /// dropped at the next compaction.
     garbage: usize,
-    /// The codes of the set last looked up or inserted ([`code`]): made
-    /// once, then hashed and compared as they are.
-    codes: Vec<u32>,
     /// Lookups and hits, for tests and statistics.
     pub(crate) lookups: u64,
     pub(crate) hits: u64,
@@ -140,13 +132,83 @@ fn code(&(node, sign): &(usize, f64)) -> u32 {
     ((node as u32) << 1) | u32::from(sign < 0.0)
 }
 
-/// FNV-1a over the codes of a set: `O(k)`, not `O(N)`.
-fn hash(codes: impl ExactSizeIterator<Item = u32>) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325 ^ codes.len() as u64;
-    for c in codes {
-        h = (h ^ u64::from(c)).wrapping_mul(0x0100_0000_01b3);
+/// A code's share of a set's hash: the codes mixed (the finaliser of
+/// SplitMix64) so that the exclusive or of any few of them is as good as a
+/// random number.
+#[inline]
+fn mix(code: u32) -> u64 {
+    let mut z = u64::from(code).wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// The hash of a set from its codes: the exclusive or of their shares, so
+/// that a node entering, leaving or reversing changes it in `O(1)`.
+fn hash(codes: &[u32]) -> u64 {
+    codes.iter().fold(0, |h, &c| h ^ mix(c))
+}
+
+/// A slip set as the cache knows it: the codes ([`code`]) of its slipping
+/// nodes in node order, and their hash, kept by the owner of the set as it
+/// changes node by node. A lookup then neither encodes nor hashes the set
+/// (both were `O(k)` at every lookup, and again at the insert after a
+/// miss: a serial chain of multiplies that was a fortieth of a sweep's
+/// time).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub(crate) struct SetKey {
+    codes: Vec<u32>,
+    hash: u64,
+}
+
+impl SetKey {
+    /// The empty set, with room for `n` nodes.
+    pub(crate) fn with_capacity(n: usize) -> Self {
+        Self {
+            codes: Vec::with_capacity(n),
+            hash: 0,
+        }
     }
-    h
+
+    /// The key of `set` (`(node, sign)` in node order), made afresh.
+    #[cfg(test)]
+    pub(crate) fn of(set: &[(usize, f64)]) -> Self {
+        let mut key = Self::with_capacity(set.len());
+        key.extend(set);
+        key
+    }
+
+    pub(crate) fn clear(&mut self) {
+        self.codes.clear();
+        self.hash = 0;
+    }
+
+    /// Append `set`, whose nodes all come after the key's.
+    pub(crate) fn extend(&mut self, set: &[(usize, f64)]) {
+        for entry in set {
+            let c = code(entry);
+            self.codes.push(c);
+            self.hash ^= mix(c);
+        }
+    }
+
+    /// `entry` enters at position `at` of the set.
+    pub(crate) fn insert(&mut self, at: usize, entry: (usize, f64)) {
+        let c = code(&entry);
+        self.codes.insert(at, c);
+        self.hash ^= mix(c);
+    }
+
+    /// The node at position `at` of the set leaves it.
+    pub(crate) fn remove(&mut self, at: usize) {
+        self.hash ^= mix(self.codes.remove(at));
+    }
+
+    /// The node at position `at` of the set becomes `entry` (a reversal).
+    pub(crate) fn replace(&mut self, at: usize, entry: (usize, f64)) {
+        let c = code(&entry);
+        self.hash ^= mix(std::mem::replace(&mut self.codes[at], c)) ^ mix(c);
+    }
 }
 
 /// Append `values` to `pool`; their range.
@@ -204,21 +266,18 @@ impl ResponseCache {
             codes_pool: Vec::new(),
             floats: Vec::new(),
             garbage: 0,
-            codes: Vec::new(),
             lookups: 0,
             hits: 0,
         }
     }
 
-    /// The cached rates of the slip set `set` (`(node, sign)` in node
-    /// order), if any.
-    pub(crate) fn lookup(&mut self, set: &[(usize, f64)]) -> Option<Hit<'_>> {
+    /// The cached rates of the slip set `set`, if any.
+    pub(crate) fn lookup(&mut self, set: &SetKey) -> Option<Hit<'_>> {
         self.lookups += 1;
         self.clock += 1;
-        let h = self.encode(set);
-        let slot = *self.by_hash.get(&h)?;
+        let slot = *self.by_hash.get(&set.hash)?;
         let e = &mut self.entries[slot];
-        if self.codes_pool[e.key.clone()] != self.codes[..] {
+        if self.codes_pool[e.key.clone()] != set.codes[..] {
             return None;
         }
         self.hits += 1;
@@ -236,19 +295,12 @@ impl ResponseCache {
         })
     }
 
-    /// The codes of `set` into `codes`, and their hash.
-    fn encode(&mut self, set: &[(usize, f64)]) -> u64 {
-        self.codes.clear();
-        self.codes.extend(set.iter().map(code));
-        hash(self.codes.iter().copied())
-    }
-
     /// Keep the rates `first` (per unit `u1`, on the set in node order) of
     /// the slip set `set`, with their responses `H g'` and `-|D| g'` if there
     /// are at most [`RESPONSE_NODES`] nodes; returns the entry's slot.
     pub(crate) fn insert(
         &mut self,
-        set: &[(usize, f64)],
+        set: &SetKey,
         u1: (f64, f64),
         first: impl Iterator<Item = f64>,
         responses: (&[f64], &[f64]),
@@ -267,8 +319,8 @@ impl ResponseCache {
             self.floats.reserve(self.budget / 8);
             self.codes_pool.reserve(self.budget / 32);
         }
-        let h = self.encode(set);
-        let key = append(&mut self.codes_pool, self.codes.iter().copied());
+        let h = set.hash;
+        let key = append(&mut self.codes_pool, set.codes.iter().copied());
         let rates = append(&mut self.floats, first);
         let kept = keep(&mut self.floats, responses);
         let empty = self.floats.len()..self.floats.len();
@@ -307,15 +359,14 @@ impl ResponseCache {
     pub(crate) fn add_second(
         &mut self,
         slot: usize,
-        set: &[(usize, f64)],
+        set: &SetKey,
         second: impl Iterator<Item = f64>,
         responses: (&[f64], &[f64]),
     ) {
-        self.encode(set);
         let Some(e) = self.entries.get(slot) else {
             return;
         };
-        if e.have2 || self.codes_pool[e.key.clone()] != self.codes[..] {
+        if e.have2 || self.codes_pool[e.key.clone()] != set.codes[..] {
             return;
         }
         let before = e.bytes();
@@ -375,7 +426,7 @@ impl ResponseCache {
         self.bytes = 0;
         for (slot, e) in self.entries.iter().enumerate() {
             self.by_hash
-                .insert(hash(self.codes_pool[e.key.clone()].iter().copied()), slot);
+                .insert(hash(&self.codes_pool[e.key.clone()]), slot);
             self.bytes += e.bytes();
         }
         self.garbage = 0;
@@ -399,8 +450,9 @@ mod tests {
     use super::*;
 
     /// Nodes `from..to` slipping forward (of `n`).
-    fn set(_n: usize, from: usize, to: usize) -> Vec<(usize, f64)> {
-        (from..to).map(|j| (j, 1.0)).collect()
+    fn set(_n: usize, from: usize, to: usize) -> SetKey {
+        let nodes: Vec<(usize, f64)> = (from..to).map(|j| (j, 1.0)).collect();
+        SetKey::of(&nodes)
     }
 
     #[test]

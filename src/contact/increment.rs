@@ -33,7 +33,7 @@
 
 use std::f64::consts::PI;
 
-use super::cache::{self, ResponseCache};
+use super::cache::{self, ResponseCache, SetKey};
 use super::kernels::{self, at_limit, end_margins, event_times, rate_extremes, SCREEN};
 use super::operators::{FftScratch, Operators};
 use super::solver::{
@@ -197,6 +197,8 @@ pub(crate) struct Engine {
     /// The slip set of the cached responses, and as `(node, sign)`.
     dirs: Vec<SlipDirection>,
     set: Vec<(usize, f64)>,
+    /// The set as the response cache knows it, kept beside `set`.
+    key: SetKey,
     /// Scratch of a change of set: the nodes whose direction changes.
     changes: Vec<usize>,
     /// The two load directions of the responses: `u1` the direction of the
@@ -284,6 +286,8 @@ impl Engine {
                 .enumerate()
                 .filter(|(_, d)| d.is_slipping());
             self.set.extend(slipping.map(|(j, d)| (j, d.sign())));
+            self.key.clear();
+            self.key.extend(&self.set);
         }
         for &j in &changes {
             let d = self.trial[j];
@@ -292,11 +296,18 @@ impl Engine {
                 let at = self.set.partition_point(|&(i, _)| i < j);
                 let present = self.set.get(at).is_some_and(|&(i, _)| i == j);
                 match (present, slips) {
-                    (true, true) => self.set[at].1 = d.sign(),
+                    (true, true) => {
+                        self.set[at].1 = d.sign();
+                        self.key.replace(at, (j, d.sign()));
+                    }
                     (true, false) => {
                         self.set.remove(at);
+                        self.key.remove(at);
                     }
-                    (false, true) => self.set.insert(at, (j, d.sign())),
+                    (false, true) => {
+                        self.set.insert(at, (j, d.sign()));
+                        self.key.insert(at, (j, d.sign()));
+                    }
                     (false, false) => {}
                 }
             }
@@ -386,6 +397,7 @@ impl Engine {
             have2: false,
             dirs: vec![SlipDirection::Stick; n],
             set: Vec::with_capacity(n),
+            key: SetKey::with_capacity(n),
             changes: Vec::with_capacity(n),
             gx: z(),
             gy: z(),
@@ -669,7 +681,7 @@ impl Contact {
         // The cache is lent out while its entry fills the engine (no
         // allocation: an empty cache holds none).
         let mut cache = std::mem::replace(&mut e.cache, ResponseCache::new(0));
-        let hit = cache.lookup(&e.set);
+        let hit = cache.lookup(&e.key);
         if let Some(hit) = hit {
             // A set met before: its slip rates, and p and q from the kept
             // responses or by one FFT.
@@ -700,7 +712,7 @@ impl Contact {
         }
         let e = &mut w.engine;
         e.slot = e.cache.insert(
-            &e.set,
+            &e.key,
             e.u1,
             e.set.iter().map(|&(j, _)| e.gx[j]),
             (&e.hpx, &e.hqx),
@@ -772,7 +784,7 @@ impl Contact {
         if let Some(slot) = e.slot {
             e.cache.add_second(
                 slot,
-                &e.set,
+                &e.key,
                 e.set.iter().map(|&(j, _)| e.gy[j]),
                 (&e.hpy, &e.hqy),
             );
@@ -1284,7 +1296,7 @@ impl Contact {
 #[cfg(test)]
 mod tests {
     use super::super::solver::tests::direction;
-    use super::Engine;
+    use super::{Engine, SetKey};
     use proptest::prelude::*;
 
     proptest! {
@@ -1316,6 +1328,7 @@ mod tests {
                     .map(|(j, d)| (j, d.sign()))
                     .collect();
                 prop_assert_eq!(&e.set, &expected);
+                prop_assert_eq!(&e.key, &SetKey::of(&expected));
                 prop_assert_eq!(&e.dirs, &e.trial);
                 for (j, d) in e.trial.iter().enumerate() {
                     let slips = d.is_slipping();
