@@ -93,6 +93,12 @@ impl Abort<'_> {
     pub fn requested(&self) -> bool {
         self.failed.load(Ordering::Relaxed) || self.interrupt.is_aborting()
     }
+
+    /// True when no further job should start (a drain or more was asked):
+    /// a job made of several runs stops before its next one.
+    pub fn draining(&self) -> bool {
+        self.failed.load(Ordering::Relaxed) || self.interrupt.is_draining()
+    }
 }
 
 /// How far [`run_ordered`] got.

@@ -2,10 +2,12 @@
 //!
 //! Work is reused where the physics allows: the transient `O -> I -> A`
 //! does not depend on `lambda` or `phi`, so the contact at the centre `A`
-//! is computed once per initial path and cloned into every run. Runs go in
-//! parallel (rayon); results come back in job order, so the output is the
-//! same whatever the thread count. The `optimal` initial slip depends on
-//! `phi`, so it is computed once per phase (one linear programme each).
+//! is computed once per initial path and cloned into every run. The runs of
+//! one `(lambda, phi)` go one after another, each starting with the slip
+//! rates the runs before it cached ([`groups`]); groups go in parallel
+//! (rayon), and results come back in job order, so the output is the same
+//! whatever the thread count. The `optimal` initial slip depends on `phi`,
+//! so it is computed once per phase (one linear programme each).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
@@ -16,7 +18,7 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::case::Case;
 use crate::analysis::limit::{optimal_initial, LimitError};
 use crate::analysis::ordered::{run_ordered, Abort, Interrupt, Progress};
-use crate::contact::Contact;
+use crate::contact::{Contact, ResponseCache};
 use crate::model::path::Initial;
 use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError};
 use crate::stepping::steady::SteadyState;
@@ -383,19 +385,21 @@ impl SweepSpec {
     /// Run `jobs` (a subset of [`SweepSpec::jobs`]) in parallel. `done` is
     /// called once per finished run, from any thread. When `cancel` is set,
     /// runs not yet started are skipped: the result then holds only the runs
-    /// that finished, still in job order.
+    /// that finished, still in job order. The runs of one `(lambda, phi)`
+    /// go one after another on one thread ([`groups`]).
     pub fn run(&self, jobs: &[Job], done: &(dyn Fn(&Row) + Sync), cancel: &AtomicBool) -> Vec<Row> {
         let starts = Starts::new(self, jobs);
-        let mut rows: Vec<Row> = jobs
-            .par_iter()
-            .filter_map(|job| {
-                if cancel.load(Ordering::Relaxed) {
-                    return None;
-                }
-                let row = self.run_job(job, &starts, &|| false)?;
-                done(&row);
-                Some(row)
+        let mut rows: Vec<Row> = groups(jobs)
+            .into_par_iter()
+            .flat_map_iter(|group| {
+                self.run_group(
+                    &jobs[group],
+                    &starts,
+                    &|| cancel.load(Ordering::Relaxed),
+                    &|| false,
+                )
             })
+            .inspect(|row| done(row))
             .collect();
         rows.sort_by_key(|r| r.job.index);
         rows
@@ -407,29 +411,106 @@ impl SweepSpec {
     /// always the start of the complete output. `interrupt` stops the
     /// sweep: draining finishes the runs in progress, aborting drops them
     /// at their next increment. Only the transients (and optimal slips) the
-    /// jobs need are computed, each once.
+    /// jobs need are computed, each once. The runs of one `(lambda, phi)`
+    /// go one after another on one worker ([`groups`]).
     pub fn run_ordered<E>(
         &self,
         jobs: &[Job],
         interrupt: &Interrupt,
+        deliver: impl FnMut(Row) -> Result<(), E>,
+    ) -> Result<Progress, E> {
+        self.resume_ordered(jobs, 0, interrupt, deliver)
+    }
+
+    /// [`SweepSpec::run_ordered`] for a list whose first `written` rows
+    /// are already written: the rows from `written` on are delivered. The
+    /// runs of the group that row `written` falls in are all made again
+    /// (the rows before it are not delivered), so that each row comes out
+    /// with the very bytes an uninterrupted sweep gives it.
+    pub fn resume_ordered<E>(
+        &self,
+        jobs: &[Job],
+        written: usize,
+        interrupt: &Interrupt,
         mut deliver: impl FnMut(Row) -> Result<(), E>,
     ) -> Result<Progress, E> {
-        let starts = Starts::new(self, jobs);
+        let written = written.min(jobs.len());
+        let groups: Vec<_> = groups(jobs)
+            .into_iter()
+            .filter(|g| g.end > written)
+            .collect();
+        let starts = Starts::new(self, &jobs[groups.first().map_or(written, |g| g.start)..]);
+        let mut delivered = written;
+        let mut short = false;
         run_ordered(
-            jobs,
+            &groups,
             interrupt,
-            |job, abort: Abort<'_>| {
+            |group, abort: Abort<'_>| {
                 if abort.requested() {
                     return None;
                 }
-                self.run_job(job, &starts, &|| abort.requested())
+                let rows =
+                    self.run_group(&jobs[group.clone()], &starts, &|| abort.draining(), &|| {
+                        abort.requested()
+                    });
+                // A group cut short by an abort is a gap; one cut short by
+                // a drain is delivered up to its last finished run.
+                (!abort.requested()).then_some(rows)
             },
-            |_, row| deliver(row),
-        )
+            |g, rows| {
+                if short {
+                    return Ok(());
+                }
+                short = rows.len() < groups[g].len();
+                // Positions in `jobs` of the rows, the ones already
+                // written left out.
+                for (at, row) in (groups[g].start..).zip(rows) {
+                    if at >= written {
+                        deliver(row)?;
+                        delivered += 1;
+                    }
+                }
+                Ok(())
+            },
+        )?;
+        Ok(Progress {
+            delivered,
+            total: jobs.len(),
+        })
+    }
+
+    /// The runs of one group in order, each starting with the slip rates
+    /// the runs before it cached (see [`groups`]); stops before a run when
+    /// `halt` says so, and within one when `stop` does.
+    fn run_group(
+        &self,
+        group: &[Job],
+        starts: &Starts,
+        halt: &dyn Fn() -> bool,
+        stop: &dyn Fn() -> bool,
+    ) -> Vec<Row> {
+        let mut cache = None;
+        let mut rows = Vec::with_capacity(group.len());
+        for job in group {
+            if halt() {
+                break;
+            }
+            match self.run_job(job, starts, stop, &mut cache) {
+                Some(row) => rows.push(row),
+                None => break,
+            }
+        }
+        rows
     }
 
     /// One run; `None` when `stop` asked it to give up.
-    fn run_job(&self, job: &Job, starts: &Starts, stop: &dyn Fn() -> bool) -> Option<Row> {
+    fn run_job(
+        &self,
+        job: &Job,
+        starts: &Starts,
+        stop: &dyn Fn() -> bool,
+        cache: &mut Option<ResponseCache>,
+    ) -> Option<Row> {
         let initial = self.initials[job.initial].name();
         let outcome = match starts.get(self, job) {
             Err(e) => Err(e),
@@ -437,8 +518,11 @@ impl SweepSpec {
             Ok(Ok(contact)) => match self.cycle(job) {
                 Err(e) => Err(RunError::Param(e)),
                 Ok(cycle) => {
-                    let mut s =
-                        Stepper::from_center(contact.clone(), cycle, self.disc, self.options);
+                    let mut contact = contact.clone();
+                    if let Some(cache) = cache.take() {
+                        contact.give_response_cache(cache);
+                    }
+                    let mut s = Stepper::from_center(contact, cycle, self.disc, self.options);
                     // The observer below reads no events.
                     s.set_zone_events(false);
                     s.set_straight_runs(true);
@@ -450,11 +534,13 @@ impl SweepSpec {
                             Control::Continue
                         }
                     };
-                    match drive(&mut s, Goal::Steady, &mut look) {
+                    let outcome = match drive(&mut s, Goal::Steady, &mut look) {
                         Ok(Driven::Stopped) => return None,
                         Ok(Driven::Reached) => s.run_to_steady().map_err(RunError::Step),
                         Err(e) => Err(RunError::Step(e)),
-                    }
+                    };
+                    *cache = s.contact_mut().take_response_cache();
+                    outcome
                 }
             },
         };
@@ -464,6 +550,36 @@ impl SweepSpec {
             outcome,
         })
     }
+}
+
+/// The groups of `jobs`: the runs of one `(lambda, phi)`, consecutive in
+/// job order, as ranges of positions in `jobs`.
+///
+/// A group's runs go one after another on one thread, and each starts
+/// with the slip rates the runs before it cached: they meet the same load
+/// cycle, so many of the slip sets one run solves for, the next meets
+/// again (in the Fig. 3 map, more than half of the sets a run solves for
+/// were met by an earlier run of its group), and a set met again costs a
+/// lookup instead of a solve. A hit gives the numbers of an earlier solve
+/// of the same set, which differ from those of a new solve by round-off
+/// only. So a row's numbers depend on its parameters and, to round-off,
+/// on the runs before it in its group: the same command gives the same
+/// bytes whatever the thread count, and shards ([`crate::io::batch::Shard`])
+/// and resumed sweeps keep groups whole so that they give them too.
+pub fn groups(jobs: &[Job]) -> Vec<std::ops::Range<usize>> {
+    let mut out: Vec<std::ops::Range<usize>> = Vec::new();
+    for (i, job) in jobs.iter().enumerate() {
+        match out.last_mut() {
+            Some(g) if same_group(&jobs[g.start], job) => g.end = i + 1,
+            _ => out.push(i..i + 1),
+        }
+    }
+    out
+}
+
+/// Do two jobs belong to one group (the same `lambda` and `phi`)?
+pub fn same_group(a: &Job, b: &Job) -> bool {
+    a.load_factor.to_bits() == b.load_factor.to_bits() && a.phase.to_bits() == b.phase.to_bits()
 }
 
 /// Where runs start, computed on first use by whichever run needs it: the
@@ -551,5 +667,16 @@ mod tests {
             (1.0, 0.5, 0)
         );
         assert!(jobs.iter().enumerate().all(|(i, j)| j.index == i));
+        // The groups: one per (lambda, phi), each with every initial path.
+        let groups = groups(&jobs);
+        assert_eq!(groups.len(), 4);
+        for g in &groups {
+            assert_eq!(g.len(), 3);
+            assert!(jobs[g.clone()]
+                .iter()
+                .all(|j| same_group(j, &jobs[g.start])));
+            assert_eq!(jobs[g.start].initial, 0);
+        }
+        assert_eq!(groups.last().unwrap().end, jobs.len());
     }
 }

@@ -399,7 +399,7 @@ pub fn stream_sweep(
     let bar = progress(jobs.len());
     bar.set_position(out.kept as u64);
     bar.reset_eta();
-    let result = spec.run_ordered(todo, interrupt, |row| {
+    let result = spec.resume_ordered(jobs, out.kept, interrupt, |row| {
         out.line(&row.csv_line())?;
         bar.inc(1);
         each(&row, &bar);

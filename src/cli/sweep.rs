@@ -7,7 +7,7 @@ use anyhow::{anyhow, Result};
 use clap::Args;
 use shakedown::analysis::case::{Case, CaseError, CaseParams};
 use shakedown::analysis::sweep::SweepLists;
-use shakedown::analysis::sweep::{Job, SweepSpec, MAX_RUNS};
+use shakedown::analysis::sweep::{same_group, Job, SweepSpec, MAX_RUNS};
 use shakedown::io::batch::Shard;
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::model::path::Initial;
@@ -36,7 +36,8 @@ pub struct SweepArgs {
     #[arg(long)]
     pub force: bool,
     /// Run only the K-th of N disjoint slices of the runs (1 <= K <= N):
-    /// runs K, K+N, K+2N, ... Join the slices with `shakedown merge`.
+    /// the runs of the K-th, K+N-th, K+2N-th, ... lambda and phi, each
+    /// with all its initial paths. Join the slices with `shakedown merge`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
 }
@@ -216,7 +217,7 @@ pub fn shard_jobs(spec: &SweepSpec, shard: Option<&str>) -> Result<(Vec<Job>, Ve
         None => all,
         Some(text) => Shard::parse(text)
             .map_err(|e| anyhow!(super::InputError(format!("--shard {text}: {e}"))))?
-            .select(&all),
+            .select_groups(&all, same_group),
     };
     let keys = jobs.iter().map(|j| job_key(spec, j)).collect();
     Ok((jobs, keys))

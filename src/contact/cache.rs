@@ -15,7 +15,8 @@
 //!
 //! The cache is bounded in bytes: past its budget the least recently used
 //! half is dropped. It is a cache only: a cloned contact starts with an
-//! empty one.
+//! empty one. A sweep hands it from run to run within a `lambda` and `phi`
+//! ([`crate::analysis::sweep::groups`]).
 
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};

@@ -456,6 +456,28 @@ impl Contact {
         }
     }
 
+    /// Take out the slip rates this contact's increments have cached (an
+    /// empty cache with the same budget stays), to hand them to the next
+    /// run of a sweep's group ([`Contact::give_response_cache`]). The rates
+    /// of a slip set depend on the set, the operators and `f` only
+    /// (model.md section 3), so they hold for any contact of the same
+    /// operators and friction.
+    pub(crate) fn take_response_cache(&mut self) -> Option<ResponseCache> {
+        let w = self.work.as_mut()?;
+        let empty = w.engine.cache.clone();
+        w.engine.slot = None;
+        Some(std::mem::replace(&mut w.engine.cache, empty))
+    }
+
+    /// Start from the cached rates `cache` of another contact with the same
+    /// operators and friction ([`Contact::take_response_cache`]).
+    pub(crate) fn give_response_cache(&mut self, cache: ResponseCache) {
+        if let Some(w) = &mut self.work {
+            w.engine.cache = cache;
+            w.engine.slot = None;
+        }
+    }
+
     /// What the last [`Contact::advance`] did.
     pub fn last_increment(&self) -> &Increment {
         &self.increment

