@@ -392,14 +392,9 @@ impl SweepSpec {
         let mut rows: Vec<Row> = groups(jobs)
             .into_par_iter()
             .flat_map_iter(|group| {
-                self.run_group(
-                    &jobs[group],
-                    &starts,
-                    &|| cancel.load(Ordering::Relaxed),
-                    &|| false,
-                )
+                let halt = || cancel.load(Ordering::Relaxed);
+                self.run_group(&jobs[group], &starts, &halt, &|| false, done)
             })
-            .inspect(|row| done(row))
             .collect();
         rows.sort_by_key(|r| r.job.index);
         rows
@@ -449,10 +444,9 @@ impl SweepSpec {
                 if abort.requested() {
                     return None;
                 }
-                let rows =
-                    self.run_group(&jobs[group.clone()], &starts, &|| abort.draining(), &|| {
-                        abort.requested()
-                    });
+                let (draining, aborted) = (|| abort.draining(), || abort.requested());
+                let group = &jobs[group.clone()];
+                let rows = self.run_group(group, &starts, &draining, &aborted, &|_| {});
                 // A group cut short by an abort is a gap; one cut short by
                 // a drain is delivered up to its last finished run.
                 (!abort.requested()).then_some(rows)
@@ -481,13 +475,15 @@ impl SweepSpec {
 
     /// The runs of one group in order, each starting with the slip rates
     /// the runs before it cached (see [`groups`]); stops before a run when
-    /// `halt` says so, and within one when `stop` does.
+    /// `halt` says so, and within one when `stop` does. `done` sees each
+    /// row as its run finishes.
     fn run_group(
         &self,
         group: &[Job],
         starts: &Starts,
         halt: &dyn Fn() -> bool,
         stop: &dyn Fn() -> bool,
+        done: &(dyn Fn(&Row) + Sync),
     ) -> Vec<Row> {
         let mut cache = None;
         let mut rows = Vec::with_capacity(group.len());
@@ -496,7 +492,10 @@ impl SweepSpec {
                 break;
             }
             match self.run_job(job, starts, stop, &mut cache) {
-                Some(row) => rows.push(row),
+                Some(row) => {
+                    done(&row);
+                    rows.push(row);
+                }
                 None => break,
             }
         }
