@@ -577,7 +577,7 @@ pub fn groups(jobs: &[Job]) -> Vec<std::ops::Range<usize>> {
 }
 
 /// Do two jobs belong to one group (the same `lambda` and `phi`)?
-pub fn same_group(a: &Job, b: &Job) -> bool {
+fn same_group(a: &Job, b: &Job) -> bool {
     a.load_factor.to_bits() == b.load_factor.to_bits() && a.phase.to_bits() == b.phase.to_bits()
 }
 

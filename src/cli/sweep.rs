@@ -7,7 +7,7 @@ use anyhow::{anyhow, Result};
 use clap::Args;
 use shakedown::analysis::case::{Case, CaseError, CaseParams};
 use shakedown::analysis::sweep::SweepLists;
-use shakedown::analysis::sweep::{same_group, Job, SweepSpec, MAX_RUNS};
+use shakedown::analysis::sweep::{groups, Job, SweepSpec, MAX_RUNS};
 use shakedown::io::batch::Shard;
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::model::path::Initial;
@@ -217,7 +217,7 @@ pub fn shard_jobs(spec: &SweepSpec, shard: Option<&str>) -> Result<(Vec<Job>, Ve
         None => all,
         Some(text) => Shard::parse(text)
             .map_err(|e| anyhow!(super::InputError(format!("--shard {text}: {e}"))))?
-            .select_groups(&all, same_group),
+            .select_groups(&all, &groups(&all)),
     };
     let keys = jobs.iter().map(|j| job_key(spec, j)).collect();
     Ok((jobs, keys))

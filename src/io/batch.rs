@@ -15,6 +15,7 @@
 //!   unsharded job list; [`Shard`] is the `K/N` slice.
 
 use std::collections::{HashMap, VecDeque};
+use std::ops::Range;
 
 pub use crate::analysis::ordered::{run_ordered, Abort, Interrupt, Progress, StopLevel};
 
@@ -98,23 +99,17 @@ impl Shard {
             .collect()
     }
 
-    /// This shard's groups, whole and in list order: the list cut into
-    /// runs of neighbours that `same` puts together, and groups `K`,
-    /// `K+N`, `K+2N`, ... of them (a sweep's runs of one `lambda` and
-    /// `phi`, which share cached slip rates: see
+    /// This shard's groups, whole and in list order: groups `K`, `K+N`,
+    /// `K+2N`, ... of `groups` (ranges of `items`, such as a sweep's runs
+    /// of one `lambda` and `phi`, which share cached slip rates: see
     /// [`crate::analysis::sweep::groups`]).
-    pub fn select_groups<T: Clone>(&self, items: &[T], same: impl Fn(&T, &T) -> bool) -> Vec<T> {
-        let mut group = 0;
-        let mut out = Vec::new();
-        for (i, item) in items.iter().enumerate() {
-            if i > 0 && !same(&items[i - 1], item) {
-                group += 1;
-            }
-            if group % self.count == self.index - 1 {
-                out.push(item.clone());
-            }
-        }
-        out
+    pub fn select_groups<T: Clone>(&self, items: &[T], groups: &[Range<usize>]) -> Vec<T> {
+        groups
+            .iter()
+            .skip(self.index - 1)
+            .step_by(self.count)
+            .flat_map(|g| items[g.clone()].iter().cloned())
+            .collect()
     }
 }
 
@@ -422,11 +417,15 @@ mod tests {
             .enumerate()
             .flat_map(|(g, &m)| (0..m).map(move |i| (g, i)))
             .collect();
-        let same = |a: &(usize, usize), b: &(usize, usize)| a.0 == b.0;
+        let mut groups = Vec::new();
+        for &m in &sizes {
+            let start = groups.last().map_or(0, |g: &Range<usize>| g.end);
+            groups.push(start..start + m);
+        }
         for n in [1, 2, 3, 7, 9] {
             let mut all = Vec::new();
             for k in 1..=n {
-                let mine = Shard::new(k, n).unwrap().select_groups(&items, same);
+                let mine = Shard::new(k, n).unwrap().select_groups(&items, &groups);
                 // Groups K, K+N, ... whole, in list order.
                 let want: Vec<(usize, usize)> = items
                     .iter()
