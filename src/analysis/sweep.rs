@@ -485,13 +485,13 @@ impl SweepSpec {
         stop: &dyn Fn() -> bool,
         done: &(dyn Fn(&Row) + Sync),
     ) -> Vec<Row> {
-        let mut cache = None;
+        let mut carry = Carry::default();
         let mut rows = Vec::with_capacity(group.len());
         for job in group {
             if halt() {
                 break;
             }
-            match self.run_job(job, starts, stop, &mut cache) {
+            match self.run_job(job, starts, stop, &mut carry) {
                 Some(row) => {
                     done(&row);
                     rows.push(row);
@@ -508,7 +508,7 @@ impl SweepSpec {
         job: &Job,
         starts: &Starts,
         stop: &dyn Fn() -> bool,
-        cache: &mut Option<ResponseCache>,
+        carry: &mut Carry,
     ) -> Option<Row> {
         let initial = self.initials[job.initial].name();
         let outcome = match starts.get(self, job) {
@@ -518,10 +518,13 @@ impl SweepSpec {
                 Err(e) => Err(RunError::Param(e)),
                 Ok(cycle) => {
                     let mut contact = contact.clone();
-                    if let Some(cache) = cache.take() {
+                    if let Some(cache) = carry.cache.take() {
                         contact.give_response_cache(cache);
                     }
                     let mut s = Stepper::from_center(contact, cycle, self.disc, self.options);
+                    if let Some(setup) = carry.safe_state.take() {
+                        s.give_safe_state_setup(setup);
+                    }
                     // The observer below reads no events.
                     s.set_zone_events(false);
                     s.set_straight_runs(true);
@@ -538,7 +541,8 @@ impl SweepSpec {
                         Ok(Driven::Reached) => s.run_to_steady().map_err(RunError::Step),
                         Err(e) => Err(RunError::Step(e)),
                     };
-                    *cache = s.contact_mut().take_response_cache();
+                    carry.cache = s.contact_mut().take_response_cache();
+                    carry.safe_state = s.take_safe_state_setup();
                     outcome
                 }
             },
@@ -549,6 +553,15 @@ impl SweepSpec {
             outcome,
         })
     }
+}
+
+/// What a run of a group hands the next ([`SweepSpec::run_group`]): the
+/// slip rates it cached, and the setup of its search for a safe state
+/// (the elastic margins over the cycle and the cone programme's basis).
+#[derive(Default)]
+struct Carry {
+    cache: Option<ResponseCache>,
+    safe_state: Option<Arc<crate::stepping::safe_state::Setup>>,
 }
 
 /// The groups of `jobs`: the runs of one `(lambda, phi)`, consecutive in

@@ -26,8 +26,8 @@
 //! slow power-law approaches need. Whatever the solver returns is checked
 //! afresh, exactly, before it is believed.
 
-use std::cell::OnceCell;
 use std::f64::consts::PI;
+use std::sync::{Arc, OnceLock};
 
 use clarabel::algebra::CscMatrix;
 
@@ -39,7 +39,7 @@ use serde::Serialize;
 
 use super::stepper::cycle_angle;
 use crate::contact::{Contact, Operators};
-use crate::model::Cycle;
+use crate::model::{Cycle, Material};
 
 /// What proves a run's shakedown before a cycle without slip: a safe state,
 /// its margin and distance, and the bound on the slip still to come
@@ -127,13 +127,9 @@ pub struct SafeStateSearch {
     friction: f64,
     /// `f C` (module docs).
     coupling: f64,
-    /// The least of `f p - s q` over the cycle's load points with no slip,
-    /// per node and sign `s = +1, -1`, less the allowance for a path that
-    /// leaves the chords ([`Self::new`]).
-    elastic: Vec<[f64; 2]>,
-    /// The basis of the cone programme's slip change, built at the first
-    /// search (most runs never make one).
-    basis: OnceCell<Basis>,
+    /// The elastic margins and the basis: what depends on the cycle, the
+    /// material and the grid only, shared by the runs of one cycle.
+    setup: Arc<Setup>,
     /// The best safe state found: `g_s`, `|D| g_s` and its margin.
     candidate: Option<(Vec<f64>, Vec<f64>, f64)>,
     /// The cycle of the next full search.
@@ -151,6 +147,59 @@ pub fn coupling_constant(friction: f64, nodes: usize) -> f64 {
     friction * (2.0 * harmonic / nodes as f64).sqrt()
 }
 
+/// What a [`SafeStateSearch`] needs that depends only on the cycle, the
+/// material, the nodes and the increments per cycle, not on the run's
+/// history: the least elastic margins over the cycle and the basis of the
+/// cone programme. Made once per cycle and shared
+/// ([`SafeStateSearch::sharing`]): setting up took about 2 % of a Fig. 3
+/// sweep's instructions when every run made its own.
+#[derive(Debug)]
+pub(crate) struct Setup {
+    material: Material,
+    cycle: Cycle,
+    nodes: usize,
+    steps: usize,
+    /// The least of `f p - s q` over the cycle's load points with no slip,
+    /// per node and sign `s = +1, -1`, less the allowance for a path that
+    /// leaves the chords ([`SafeStateSearch::new`]).
+    elastic: Vec<[f64; 2]>,
+    /// The basis of the cone programme's slip change, built at the first
+    /// search (most runs never make one).
+    basis: OnceLock<Basis>,
+}
+
+impl Setup {
+    fn new(contact: &Contact, cycle: &Cycle, steps: usize) -> Self {
+        let friction = contact.material().friction();
+        let mut elastic = contact
+            .least_elastic_margins((0..steps).map(|j| cycle.at(cycle_angle(j as f64, steps))));
+        let dt = 2.0 * PI / steps as f64;
+        let allowance =
+            std::f64::consts::SQRT_2 * friction / (2.0 * PI) * cycle.load_factor() * dt * dt / 8.0;
+        for e in &mut elastic {
+            e[0] -= allowance;
+            e[1] -= allowance;
+        }
+        Self {
+            material: *contact.material(),
+            cycle: *cycle,
+            nodes: contact.nodes(),
+            steps,
+            elastic,
+            basis: OnceLock::new(),
+        }
+    }
+
+    /// Whether this setup is the one a search of `cycle` on `contact`'s
+    /// material and nodes, `steps` increments a cycle, would make.
+    fn fits(&self, contact: &Contact, cycle: &Cycle, steps: usize) -> bool {
+        self.material == *contact.material()
+            && self.cycle == *cycle
+            && self.nodes == contact.nodes()
+            && self.steps == steps
+    }
+}
+
 impl SafeStateSearch {
     /// Set up for a run of `cycle` on the contact's nodes and material.
     ///
@@ -163,22 +212,29 @@ impl SafeStateSearch {
     /// by at most `sqrt(2) f / (2 pi)` per unit of load, so that much is
     /// taken off every margin.
     pub fn new(contact: &Contact, cycle: &Cycle, steps: usize) -> Self {
-        let n = contact.nodes();
+        Self::sharing(None, contact, cycle, steps)
+    }
+
+    /// As [`Self::new`], taking the elastic margins and the basis from
+    /// `shared` (the setup of an earlier run's search) if it was made for
+    /// the same cycle, material, nodes and increments, and making them
+    /// afresh if not. They are the same for every run of a cycle whatever
+    /// its initial path: a sweep hands them from run to run within a
+    /// `lambda` and `phi`, as it hands the response cache.
+    pub(crate) fn sharing(
+        shared: Option<Arc<Setup>>,
+        contact: &Contact,
+        cycle: &Cycle,
+        steps: usize,
+    ) -> Self {
+        let setup = shared
+            .filter(|s| s.fits(contact, cycle, steps))
+            .unwrap_or_else(|| Arc::new(Setup::new(contact, cycle, steps)));
         let friction = contact.material().friction();
-        let mut elastic = contact
-            .least_elastic_margins((0..steps).map(|j| cycle.at(cycle_angle(j as f64, steps))));
-        let dt = 2.0 * PI / steps as f64;
-        let allowance =
-            std::f64::consts::SQRT_2 * friction / (2.0 * PI) * cycle.load_factor() * dt * dt / 8.0;
-        for e in &mut elastic {
-            e[0] -= allowance;
-            e[1] -= allowance;
-        }
         Self {
             friction,
-            coupling: coupling_constant(friction, n),
-            elastic,
-            basis: OnceCell::new(),
+            coupling: coupling_constant(friction, contact.nodes()),
+            setup,
             candidate: None,
             next_attempt: FIRST_ATTEMPT,
             next_quick: QUICK_FIRST,
@@ -186,9 +242,17 @@ impl SafeStateSearch {
         }
     }
 
+    /// The setup this search works with, for the next run of its cycle
+    /// ([`Self::sharing`]).
+    pub(crate) fn setup(&self) -> &Arc<Setup> {
+        &self.setup
+    }
+
     fn basis(&self) -> &Basis {
-        self.basis
-            .get_or_init(|| Basis::harmonics(self.elastic.len()))
+        let elastic = &self.setup.elastic;
+        self.setup
+            .basis
+            .get_or_init(|| Basis::harmonics(elastic.len()))
     }
 
     /// After complete cycle `cycle` (with `W` = `dissipation`, and `fall`
@@ -282,7 +346,8 @@ impl SafeStateSearch {
     /// locked-in slip with residual pressure `pressure` (`H g`) and relief
     /// `relief` (`|D| g`).
     fn margins(&self, pressure: &[f64], relief: &[f64]) -> Vec<[f64; 2]> {
-        self.elastic
+        self.setup
+            .elastic
             .iter()
             .zip(pressure.iter().zip(relief))
             .map(|(e, (p, r))| {

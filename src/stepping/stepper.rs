@@ -307,6 +307,9 @@ pub struct Stepper {
     /// The search for a safe state that proves shakedown early (set up at
     /// the first cycle that needs it).
     safe_state: Option<Box<SafeStateSearch>>,
+    /// The setup of an earlier run's search for a safe state, for this
+    /// run's search to take if it fits ([`Stepper::give_safe_state_setup`]).
+    safe_state_setup: Option<Arc<safe_state::Setup>>,
     /// Node lists of the events of reports handed back to
     /// [`Stepper::step_into`], emptied, for the next events to reuse.
     spare_nodes: Vec<Vec<usize>>,
@@ -436,6 +439,7 @@ impl Stepper {
             resume: None,
             spare_nodes: Vec::new(),
             safe_state: None,
+            safe_state_setup: None,
             straight: false,
             span: 1,
             run_ends: vec![0; steps],
@@ -497,6 +501,22 @@ impl Stepper {
     /// sweep's group (nothing else may change it between increments).
     pub(crate) fn contact_mut(&mut self) -> &mut Contact {
         &mut self.contact
+    }
+
+    /// Hand this run the setup of an earlier run's search for a safe
+    /// state: its search takes it if it was made for the same cycle,
+    /// material and grid (see [`SafeStateSearch::sharing`]).
+    pub(crate) fn give_safe_state_setup(&mut self, setup: Arc<safe_state::Setup>) {
+        self.safe_state_setup = Some(setup);
+    }
+
+    /// The setup of this run's search for a safe state, or the one it was
+    /// given if it made none, for the next run of the cycle.
+    pub(crate) fn take_safe_state_setup(&mut self) -> Option<Arc<safe_state::Setup>> {
+        match &self.safe_state {
+            Some(search) => Some(Arc::clone(search.setup())),
+            None => self.safe_state_setup.take(),
+        }
     }
     /// The steady cycle of eq. (11): centre `A`, `load_factor` λ, `slope`
     /// ψ and `phase` φ (model.md section 5.1).
@@ -1196,8 +1216,10 @@ impl Stepper {
         {
             return None;
         }
+        let shared = &mut self.safe_state_setup;
         let search = self.safe_state.get_or_insert_with(|| {
-            Box::new(SafeStateSearch::new(
+            Box::new(SafeStateSearch::sharing(
+                shared.take(),
                 &self.contact,
                 &self.cycle,
                 self.disc.steps_per_cycle(),
