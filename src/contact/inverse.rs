@@ -36,17 +36,6 @@
 //! `k`, so the round-off that the updates accumulate stays bounded and the
 //! amortised cost stays `O(k^2)`.
 //!
-//! A pass over the factors for one bordering runs at about 40 % of the
-//! processor's multiply-add rate, and one for two borderings at once
-//! ([`border_pass2`]) costs about 1.5 times one. So when a node enters a
-//! base of [`AHEAD_FROM`] nodes or more, the pass also makes the products
-//! of the node expected to enter next (its neighbour away from the base: a
-//! zone grows from its edge), which are then kept ([`Ahead`]) and carried
-//! through later borderings at `O(k)` each: `u` and `l` gain an entry and
-//! `v` a multiple of the entering node's `v`. When that node enters, its
-//! bordering needs no pass. At `N = 1024` about half the borderings of a
-//! run find their products so.
-//!
 //! The factors are kept as `L` and `W = U^-1` (not `U`), packed in one
 //! square array: `L` below the diagonal, `W` on and above it. Then
 //! `l = W^T r` and `v = W u` are products, not substitutions, and all
@@ -89,7 +78,8 @@ fn stride(k: usize, n: usize) -> usize {
 /// (a `Vec<f64>` promises 8): a few entries more are allocated and the
 /// array starts where the boundary falls. The factors and the vectors a
 /// pass reads and writes are kept in these (the vectors aligned too, a
-/// pass took 3 to 9 % less time than with them 16 bytes off).
+/// pass took 3 to 9 % less time than with them 16 bytes off). Each index
+/// goes through `Deref`: loops take a slice of it first.
 #[derive(Default)]
 struct Aligned {
     raw: Vec<f64>,
@@ -155,30 +145,6 @@ trait Lanes: Copy {
     /// numbers the two would give apart: the columns are read once for
     /// both.
     fn dot4_axpy4(self, a: [&[f64]; 4], b: &[f64], y: &mut [f64], c: [f64; 4]) -> [f64; 4];
-    /// [`Lanes::dot4_axpy4`] for two vectors `b` and `y` at once, each
-    /// with the numbers it gives alone: the columns are read once for both.
-    #[inline(always)]
-    fn dot4_axpy4_2(
-        self,
-        a: [&[f64]; 4],
-        b: [&[f64]; 2],
-        y: [&mut [f64]; 2],
-        c: [[f64; 4]; 2],
-    ) -> [[f64; 4]; 2] {
-        let [y0, y1] = y;
-        [
-            self.dot4_axpy4(a, b[0], y0, c[0]),
-            self.dot4_axpy4(a, b[1], y1, c[1]),
-        ]
-    }
-    /// [`Lanes::axpy4`] (upward) into two vectors at once, each with the
-    /// numbers it gives alone.
-    #[inline(always)]
-    fn axpy4_2(self, y: [&mut [f64]; 2], x: [&[f64]; 4], a: [[f64; 4]; 2]) {
-        let [y0, y1] = y;
-        self.axpy4(y0, x, a[0], false);
-        self.axpy4(y1, x, a[1], false);
-    }
 }
 
 #[derive(Clone, Copy)]
@@ -332,84 +298,6 @@ impl<S: pulp::Simd> Lanes for Wide<S> {
         }
         dot4_sums(d, a.map(|c| c.1), bt)
     }
-
-    #[inline(always)]
-    fn dot4_axpy4_2(
-        self,
-        a: [&[f64]; 4],
-        b: [&[f64]; 2],
-        y: [&mut [f64]; 2],
-        c: [[f64; 4]; 2],
-    ) -> [[f64; 4]; 2] {
-        let simd = self.0;
-        let m = b[0].len();
-        let a = a.map(|col| S::as_simd_f64s(&col[..m]));
-        let (b0, b0t) = S::as_simd_f64s(b[0]);
-        let (b1, b1t) = S::as_simd_f64s(&b[1][..m]);
-        let [y0, y1] = y;
-        let (y0h, y0t) = S::as_mut_simd_f64s(&mut y0[..m]);
-        let (y1h, y1t) = S::as_mut_simd_f64s(&mut y1[..m]);
-        let nc = c.map(|ct| ct.map(|t| simd.splat_f64s(-t)));
-        let mut d = [[simd.splat_f64s(0.0); 4]; 2];
-        let rows = y0h
-            .iter_mut()
-            .zip(y1h.iter_mut())
-            .zip(b0)
-            .zip(b1)
-            .zip(a[0].0)
-            .zip(a[1].0)
-            .zip(a[2].0)
-            .zip(a[3].0);
-        for (((((((yv0, yv1), &bv0), &bv1), &a0), &a1), &a2), &a3) in rows {
-            for (dq, bv) in d.iter_mut().zip([bv0, bv1]) {
-                dq[0] = simd.mul_add_e_f64s(a0, bv, dq[0]);
-                dq[1] = simd.mul_add_e_f64s(a1, bv, dq[1]);
-                dq[2] = simd.mul_add_e_f64s(a2, bv, dq[2]);
-                dq[3] = simd.mul_add_e_f64s(a3, bv, dq[3]);
-            }
-            *yv0 = fma4(simd, *yv0, [a0, a1, a2, a3], nc[0]);
-            *yv1 = fma4(simd, *yv1, [a0, a1, a2, a3], nc[1]);
-        }
-        for (yt, cq) in [(y0t, c[0]), (y1t, c[1])] {
-            for (i, yv) in yt.iter_mut().enumerate() {
-                *yv = axpy4_entry(*yv, [a[0].1[i], a[1].1[i], a[2].1[i], a[3].1[i]], cq);
-            }
-        }
-        let tails = a.map(|c| c.1);
-        [dot4_sums(d[0], tails, b0t), dot4_sums(d[1], tails, b1t)]
-    }
-
-    #[inline(always)]
-    fn axpy4_2(self, y: [&mut [f64]; 2], x: [&[f64]; 4], a: [[f64; 4]; 2]) {
-        let simd = self.0;
-        let [y0, y1] = y;
-        let m = y0.len();
-        let x = x.map(|c| S::as_simd_f64s(&c[..m]));
-        let (y0h, y0t) = S::as_mut_simd_f64s(y0);
-        let (y1h, y1t) = S::as_mut_simd_f64s(&mut y1[..m]);
-        let na = a.map(|aq| aq.map(|t| simd.splat_f64s(-t)));
-        let rows = y0h
-            .iter_mut()
-            .zip(y1h.iter_mut())
-            .zip(x[0].0)
-            .zip(x[1].0)
-            .zip(x[2].0)
-            .zip(x[3].0);
-        for (((((yv0, yv1), &x0), &x1), &x2), &x3) in rows {
-            *yv0 = fma4(simd, *yv0, [x0, x1, x2, x3], na[0]);
-            *yv1 = fma4(simd, *yv1, [x0, x1, x2, x3], na[1]);
-        }
-        let tails = x.map(|c| c.1);
-        for (yt, aq) in [(y0t, a[0]), (y1t, a[1])] {
-            for (i, yv) in yt.iter_mut().enumerate() {
-                *yv = axpy4_entry(
-                    *yv,
-                    [tails[0][i], tails[1][i], tails[2][i], tails[3][i]],
-                    aq,
-                );
-            }
-        }
-    }
 }
 
 impl Lanes for Narrow {
@@ -473,13 +361,6 @@ enum Pass<'a> {
         r: &'a [f64],
         l: &'a mut [f64],
         v: &'a mut [f64],
-    },
-    /// [`border_pass`] for two borderings at once ([`border_pass2`]).
-    Border2 {
-        u: [&'a mut [f64]; 2],
-        r: [&'a [f64]; 2],
-        l: [&'a mut [f64]; 2],
-        v: [&'a mut [f64]; 2],
     },
 }
 
@@ -595,46 +476,6 @@ fn block_upper(b: &[[f64; 4]; 4], x: [f64; 4]) -> [f64; 4] {
     y
 }
 
-/// `u = L^-1 u` over the block's own triangle (the columns before it
-/// have been taken into `u`): its entries, final, into `u` and returned.
-#[inline(always)]
-fn block_lower(b: &[[f64; 4]; 4], u: &mut [f64], jb: usize, w: usize) -> [f64; 4] {
-    let mut ub = block_of(u, jb, w);
-    for t in 1..4 {
-        for i in 0..t {
-            ub[t] = b[t][i].mul_add(-ub[i], ub[t]);
-        }
-    }
-    set_block(u, jb, w, &ub);
-    ub
-}
-
-/// The block's own rows of a bordering: `l` from the dot products `s` of
-/// the rows above and the block's triangle of `W`, and `v = W u` over it.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn block_rows(
-    b: &[[f64; 4]; 4],
-    s: [f64; 4],
-    ub: [f64; 4],
-    r: &[f64],
-    l: &mut [f64],
-    v: &mut [f64],
-    jb: usize,
-    w: usize,
-) {
-    let rb = block_of(r, jb, w);
-    let mut lb = s;
-    for (t, acc) in lb.iter_mut().enumerate() {
-        for i in 0..=t {
-            *acc = b[i][t].mul_add(rb[i], *acc);
-        }
-    }
-    set_block(l, jb, w, &lb);
-    let vb = block_upper(b, ub);
-    set_block(v, jb, w, &vb);
-}
-
 impl Triangular<'_> {
     #[inline(always)]
     fn run<V: Lanes>(self, lanes: V) {
@@ -669,7 +510,15 @@ impl Triangular<'_> {
                     let w = (k - jb).min(4);
                     let cols = columns(lu, ld, k, jb, w);
                     let b = block(cols, jb, w);
-                    let ub = block_lower(&b, u, jb, w);
+                    // u = L^-1 u: the block's triangle first, so that its
+                    // entries are final.
+                    let mut ub = block_of(u, jb, w);
+                    for t in 1..4 {
+                        for i in 0..t {
+                            ub[t] = b[t][i].mul_add(-ub[i], ub[t]);
+                        }
+                    }
+                    set_block(u, jb, w, &ub);
                     // Above the block, in one pass over the columns:
                     // l = W^T r (dot products) and v = W u (updates).
                     let s = lanes.dot4_axpy4(
@@ -678,33 +527,19 @@ impl Triangular<'_> {
                         &mut v[..jb],
                         ub.map(|e| -e),
                     );
-                    block_rows(&b, s, ub, r, l, v, jb, w);
+                    // The block's own rows.
+                    let rb = block_of(r, jb, w);
+                    let mut lb = s;
+                    for (t, acc) in lb.iter_mut().enumerate() {
+                        for i in 0..=t {
+                            *acc = b[i][t].mul_add(rb[i], *acc);
+                        }
+                    }
+                    set_block(l, jb, w, &lb);
+                    let vb = block_upper(&b, ub);
+                    set_block(v, jb, w, &vb);
                     // Below the block, four columns of L at once.
                     lanes.axpy4(&mut u[jb + w..k], cols.map(|c| &c[jb + w..k]), ub, false);
-                }
-            }
-            Pass::Border2 { u, r, l, v } => {
-                // Pass::Border for two, block by block: each gets its
-                // numbers, and each block of the factors is read once.
-                let ([u0, u1], [l0, l1], [v0, v1]) = (u, l, v);
-                for jb in (0..k).step_by(4) {
-                    let w = (k - jb).min(4);
-                    let cols = columns(lu, ld, k, jb, w);
-                    let b = block(cols, jb, w);
-                    let ub = [block_lower(&b, u0, jb, w), block_lower(&b, u1, jb, w)];
-                    let s = lanes.dot4_axpy4_2(
-                        cols.map(|c| &c[..jb]),
-                        [&r[0][..jb], &r[1][..jb]],
-                        [&mut v0[..jb], &mut v1[..jb]],
-                        ub.map(|x| x.map(|e| -e)),
-                    );
-                    block_rows(&b, s[0], ub[0], r[0], l0, v0, jb, w);
-                    block_rows(&b, s[1], ub[1], r[1], l1, v1, jb, w);
-                    lanes.axpy4_2(
-                        [&mut u0[jb + w..k], &mut u1[jb + w..k]],
-                        cols.map(|c| &c[jb + w..k]),
-                        ub,
-                    );
                 }
             }
         }
@@ -728,20 +563,6 @@ fn border_pass(f: Factors<'_>, u: &mut [f64], r: &[f64], l: &mut [f64], v: &mut 
     triangular(f, Pass::Border { u, r, l, v });
 }
 
-/// [`border_pass`] for two borderings of the same factors at once (the
-/// node entering and the one expected next, see [`Ahead`]): each gets the
-/// numbers its own pass gives, and the factors are streamed once for both,
-/// which at `N = 1024` is what a pass costs.
-fn border_pass2(
-    f: Factors<'_>,
-    u: [&mut [f64]; 2],
-    r: [&[f64]; 2],
-    l: [&mut [f64]; 2],
-    v: [&mut [f64]; 2],
-) {
-    triangular(f, Pass::Border2 { u, r, l, v });
-}
-
 /// `a . b` in four lanes (a single running sum would not vectorise).
 #[inline]
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -759,51 +580,6 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
         }
     }
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
-}
-
-/// Borderings from this size of the base on make a pass for the node
-/// expected next too ([`SetInverse::expect`]). Below it a pass is a few
-/// microseconds and gains little; and at `N = 128` (the paper's maps) no
-/// base reaches it, so their numbers stay those of single passes.
-const AHEAD_FROM: usize = 128;
-
-/// The most nodes whose bordering products are kept ahead: enough for the
-/// edges of two or three growing zones (with 2, 3, 4 and 8, 40 %, 43 %,
-/// 44 % and 45 % of the borderings of a run at `N = 1024` found them, with
-/// 1.1, 1.7, 2.3 and 3.5 of them carried through each bordering).
-const AHEAD_MAX: usize = 4;
-
-/// A node expected to enter the base, with the products its bordering
-/// needs, made against the base as it was and carried along through the
-/// borderings since, at `O(k)` each (the module's documentation): `u =
-/// L^-1 P c`, `l = W^T r` and `v = W u`. When the node does enter, its
-/// bordering costs `O(k)` instead of a pass over the factors.
-///
-/// A slip zone at `N = 1024` grows a node at a time from its edge, and
-/// the node next to the one entering is the likeliest to enter next: with
-/// that one made in the same pass ([`border_pass2`]), half the borderings
-/// of a run at `lambda = 5.5`, `phi = 0` take their products from here.
-struct Ahead {
-    node: usize,
-    sign: f64,
-    u: Aligned,
-    l: Aligned,
-    v: Aligned,
-    /// `r` (the pass's input).
-    row: Aligned,
-}
-
-impl Ahead {
-    fn new(n: usize) -> Self {
-        Self {
-            node: NONE,
-            sign: 0.0,
-            u: Aligned::zeros(n),
-            l: Aligned::zeros(n),
-            v: Aligned::zeros(n),
-            row: Aligned::zeros(n),
-        }
-    }
 }
 
 /// What a node of the base matrix `A` is in the current set.
@@ -875,12 +651,6 @@ pub(crate) struct SetInverse {
     coef: Vec<f64>,
     /// Positions whose role changes in an update.
     changed: Vec<(usize, Role)>,
-    /// Nodes expected to enter, oldest first, with their bordering
-    /// products against the present base; and spent ones, for reuse.
-    ahead: Vec<Ahead>,
-    spare: Vec<Ahead>,
-    /// Borderings whose products were made ahead (for tests).
-    ahead_used: usize,
     /// The nodes whose direction may have changed since the solutions were
     /// last made those of a set ([`Self::note_changes`]), each once
     /// (`is_dirty`): an update looks at these, not at every node of `A`.
@@ -930,9 +700,6 @@ impl SetInverse {
             l: Aligned::zeros(n),
             coef: vec![0.0; MAX_SPECIAL],
             changed: Vec::with_capacity(n),
-            ahead: Vec::with_capacity(AHEAD_MAX + 1),
-            spare: Vec::new(),
-            ahead_used: 0,
             dirty: Vec::with_capacity(n),
             is_dirty: vec![false; n],
             factor: DenseLu::new(0),
@@ -1110,8 +877,6 @@ impl SetInverse {
     /// A fresh LU of `M_SS` for the set of `target`, and the solutions.
     fn rebuild(&mut self, ops: &Operators, friction: f64, target: &[SlipDirection]) -> bool {
         self.clear_dirty();
-        // Products against the old base mean nothing for the new one.
-        self.spare.append(&mut self.ahead);
         for &node in &self.nodes {
             self.pos[node] = NONE;
         }
@@ -1282,67 +1047,27 @@ impl SetInverse {
         // row is read from column a).
         let hcol = ops.hilbert_col(a);
         let dcol = ops.abs_derivative_col(a);
-        for i in 0..k {
-            let node = self.nodes[i];
-            self.col[i] = -dcol[node] - f * self.signs[i] * hcol[node];
-            self.row[i] = -dcol[node] + f * sign * hcol[node];
+        let (col, row) = (&mut self.col[..k], &mut self.row[..k]);
+        for ((c, r), (&node, &s)) in col
+            .iter_mut()
+            .zip(row)
+            .zip(self.nodes.iter().zip(&self.signs))
+        {
+            *c = -dcol[node] - f * s * hcol[node];
+            *r = -dcol[node] + f * sign * hcol[node];
         }
         let d0 = Self::entry(ops, f, a, sign, a);
-        // u = L^-1 P c, l = U^-T r and v = U^-1 u = A^-1 c: made ahead, or
-        // by a pass over the factors, with those of the node expected next.
-        if let Some(t) = self
-            .ahead
-            .iter()
-            .position(|e| e.node == a && e.sign == sign)
-        {
-            let e = self.ahead.remove(t);
-            self.ahead_used += 1;
-            self.u[..k].copy_from_slice(&e.u[..k]);
-            self.l[..k].copy_from_slice(&e.l[..k]);
-            self.v[..k].copy_from_slice(&e.v[..k]);
-            self.spare.push(e);
-            // Kept for the other sign, it will not enter again: drop it.
-            if let Some(t) = self.ahead.iter().position(|e| e.node == a) {
-                let e = self.ahead.remove(t);
-                self.spare.push(e);
-            }
-        } else {
-            for (ui, &p) in self.u[..k].iter_mut().zip(&self.perm) {
-                *ui = self.col[p];
-            }
-            let factors = Factors {
-                lu: &self.lu,
-                ld: self.ld,
-                k,
-            };
-            match self.expect(a, sign) {
-                None => border_pass(factors, &mut self.u, &self.row, &mut self.l, &mut self.v),
-                Some(q) => {
-                    let mut e = self.spare.pop().unwrap_or_else(|| Ahead::new(n));
-                    (e.node, e.sign) = (q, sign);
-                    let (hq, dq) = (ops.hilbert_col(q), ops.abs_derivative_col(q));
-                    for (ri, &node) in e.row[..k].iter_mut().zip(&self.nodes) {
-                        *ri = -dq[node] + f * sign * hq[node];
-                    }
-                    for (ui, &p) in e.u[..k].iter_mut().zip(&self.perm) {
-                        let node = self.nodes[p];
-                        *ui = -dq[node] - f * self.signs[p] * hq[node];
-                    }
-                    border_pass2(
-                        factors,
-                        [&mut self.u, &mut e.u],
-                        [&self.row, &e.row],
-                        [&mut self.l, &mut e.l],
-                        [&mut self.v, &mut e.v],
-                    );
-                    self.ahead.push(e);
-                    if self.ahead.len() > AHEAD_MAX {
-                        let oldest = self.ahead.remove(0);
-                        self.spare.push(oldest);
-                    }
-                }
-            }
+        // u = L^-1 P c, l = U^-T r and v = U^-1 u = A^-1 c.
+        let col = &self.col[..k];
+        for (ui, &p) in self.u[..k].iter_mut().zip(&self.perm) {
+            *ui = col[p];
         }
+        let factors = Factors {
+            lu: &self.lu,
+            ld: self.ld,
+            k,
+        };
+        border_pass(factors, &mut self.u, &self.row, &mut self.l, &mut self.v);
         let lu_dot = dot(&self.l[..k], &self.u[..k]);
         let sigma = d0 - lu_dot;
         let scale = d0.abs().max(lu_dot.abs());
@@ -1355,13 +1080,14 @@ impl SetInverse {
         // The bordered factors: row l of L, and U's new column (u, sigma)
         // inverted, the column (-v / sigma, 1 / sigma) of W.
         let ld = self.ld;
+        let lu = &mut self.lu[..];
         for (j, &lj) in self.l[..k].iter().enumerate() {
-            self.lu[j * ld + k] = lj;
+            lu[j * ld + k] = lj;
         }
-        for (o, &vi) in self.lu[k * ld..k * ld + k].iter_mut().zip(&self.v[..k]) {
+        for (o, &vi) in lu[k * ld..k * ld + k].iter_mut().zip(&self.v[..k]) {
             *o = -vi / sigma;
         }
-        self.lu[k * ld + k] = 1.0 / sigma;
+        lu[k * ld + k] = 1.0 / sigma;
         let v = &self.v[..k];
         let row = &self.row[..k];
         // The correction's columns: A_new^-1 e_q = (w + v (r.w) / sigma,
@@ -1390,7 +1116,6 @@ impl SetInverse {
                 sol[k] = xi;
             }
         }
-        self.carry_ahead(ops, a, sign, sigma);
         self.perm.push(k);
         self.perm_inv.push(k);
         self.pos[a] = k;
@@ -1398,46 +1123,6 @@ impl SetInverse {
         self.signs.push(sign);
         self.roles.push(Role::Active);
         true
-    }
-
-    /// The node expected to enter after `a` (entering with `sign`), if a
-    /// pass is worth making for it: the neighbour of `a` on the side away
-    /// from the base (a zone grows from its edge), with `a`'s sign, unless
-    /// both neighbours are in the base or its products are kept already.
-    fn expect(&self, a: usize, sign: f64) -> Option<usize> {
-        let n = self.n;
-        if self.nodes.len() < AHEAD_FROM || n < 3 {
-            return None;
-        }
-        let (below, above) = ((a + n - 1) % n, (a + 1) % n);
-        let q = match (self.pos[below] != NONE, self.pos[above] != NONE) {
-            (true, true) => return None,
-            (true, false) | (false, false) => above,
-            (false, true) => below,
-        };
-        let kept = self.ahead.iter().any(|e| e.node == q && e.sign == sign);
-        (!kept).then_some(q)
-    }
-
-    /// The base has been bordered by `a` (with `sign`, pivot `sigma`, and
-    /// its products still in `u`, `l`, `v`): the products kept ahead
-    /// follow, each gaining an entry and `v` a multiple of `a`'s. With
-    /// `L' = [L 0; l_a^T 1]`, `U' = [U u_a; 0 sigma]` and `c'`, `r'` the
-    /// node's column and row gaining `M_aq` and `M_qa`:
-    /// `u' = (u, M_aq - l_a . u)`, `l' = (l, (M_qa - u_a . l) / sigma)`
-    /// and `v' = (v - t v_a, t)` with `t = u'_k / sigma`.
-    fn carry_ahead(&mut self, ops: &Operators, a: usize, sign: f64, sigma: f64) {
-        let (k, f) = (self.nodes.len(), self.friction);
-        let (la, ua, va) = (&self.l[..k], &self.u[..k], &self.v[..k]);
-        for e in &mut self.ahead {
-            let uk = Self::entry(ops, f, a, sign, e.node) - dot(la, &e.u[..k]);
-            let lk = (Self::entry(ops, f, e.node, e.sign, a) - dot(ua, &e.l[..k])) / sigma;
-            let t = uk / sigma;
-            for (x, &y) in e.v[..k].iter_mut().zip(va) {
-                *x -= t * y;
-            }
-            (e.u[k], e.l[k], e.v[k]) = (uk, lk, t);
-        }
     }
 
     /// Factorise the capacitance system of the correction and apply it to
@@ -1764,49 +1449,6 @@ mod tests {
                 let mut y = c.clone();
                 run(Pass::Lower { y: &mut y, from: 0 }, narrow);
                 close(&y, &u0, "L^-1 c (lower)");
-                // Two borderings in one pass: each has the bits of its own.
-                let c2: Vec<f64> = (0..k).map(|i| (i as f64 * 1.1).cos()).collect();
-                let r2: Vec<f64> = (0..k).map(|i| (i as f64 * 0.9).sin() + 0.1).collect();
-                let (mut u2, mut l2, mut v2) = (c2.clone(), vec![f64::NAN; k], vec![f64::NAN; k]);
-                run(
-                    Pass::Border {
-                        u: &mut u2,
-                        r: &r2,
-                        l: &mut l2,
-                        v: &mut v2,
-                    },
-                    narrow,
-                );
-                let (mut ua, mut la, mut va) = (c.clone(), vec![f64::NAN; k], vec![f64::NAN; k]);
-                let (mut ub, mut lb, mut vb) = (c2.clone(), vec![f64::NAN; k], vec![f64::NAN; k]);
-                run(
-                    Pass::Border2 {
-                        u: [&mut ua, &mut ub],
-                        r: [&r, &r2],
-                        l: [&mut la, &mut lb],
-                        v: [&mut va, &mut vb],
-                    },
-                    narrow,
-                );
-                assert_eq!(
-                    [
-                        bits(&ua),
-                        bits(&la),
-                        bits(&va),
-                        bits(&ub),
-                        bits(&lb),
-                        bits(&vb)
-                    ],
-                    [
-                        bits(&u),
-                        bits(&l),
-                        bits(&v),
-                        bits(&u2),
-                        bits(&l2),
-                        bits(&v2)
-                    ],
-                    "k {k}: two borderings in one pass differ from their own"
-                );
                 outs.push([bits(&u), bits(&l), bits(&v), bits(&x), bits(&y)]);
             }
             assert_eq!(outs[0], outs[1], "k {k}: wide and narrow differ");
@@ -1850,43 +1492,6 @@ mod tests {
             check_kept_rates(&inv, &loads, f, n);
         }
         assert!(inv.rebuilds < steps.len(), "small changes are updates");
-    }
-
-    /// Two zones that grow a node at a time past [`AHEAD_FROM`] nodes, one
-    /// up and one down, while nodes stick and reverse elsewhere: most
-    /// borderings take the products made ahead, and every set's rates
-    /// match the system and a fresh factorisation.
-    #[test]
-    fn zones_growing_node_by_node_border_from_products_made_ahead() {
-        let n = 512;
-        let f = 0.3;
-        let shape = |j: usize, a: f64| (j as f64 * a * 0.05).sin() + 0.2;
-        let (ops, mut inv, loads) = loaded(n, shape, 0.41);
-        let mut used_before = 0;
-        for i in 0..50 {
-            // Zone one grows up from 130; zone two grows down from 350;
-            // a short zone sticks node by node, then reverses.
-            let mut zones = vec![(10, 130 + i, 1.0), (350 - i, 420, -1.0)];
-            if i < 30 {
-                zones.push((440 + i / 3, 455, 1.0));
-            } else {
-                zones.push((451, 455, -1.0));
-            }
-            assert!(update(&mut inv, &ops, f, &dirs(n, &zones)));
-            let r = residual(&ops, f, &mut inv, n);
-            assert!(r < 1e-10, "residual {r} at step {i}");
-            if i % 7 == 0 {
-                check_kept_rates(&inv, &loads, f, n);
-            }
-            if i == 10 {
-                used_before = inv.ahead_used;
-            }
-        }
-        // Two nodes enter a step: after a miss each zone's next node is
-        // made ahead, so about half the entries are hits (less the first
-        // after a rebuild).
-        let used = inv.ahead_used - used_before;
-        assert!(used >= 30, "{used} of 78 entries made ahead");
     }
 
     #[test]
