@@ -646,6 +646,36 @@ mod tests {
         a.iter().zip(b).map(|(x, y)| x * y).sum()
     }
 
+    /// A setup handed on is taken only by a search of the cycle, material
+    /// and grid it was made for; any other makes its own, with the margins
+    /// a fresh search has.
+    #[test]
+    fn a_shared_setup_is_taken_only_where_it_fits() {
+        use crate::model::{Material, Plane};
+        let contact = |f: f64, n: usize| {
+            let material = Material::new(f, 0.3, Plane::Strain).unwrap();
+            Contact::new(material, std::sync::Arc::new(Operators::new(n)))
+        };
+        let (c, cycle) = (contact(0.1, 64), Cycle::paper(5.0, 0.0).unwrap());
+        let first = SafeStateSearch::new(&c, &cycle, 200);
+        let shared = || Some(Arc::clone(first.setup()));
+        let same = SafeStateSearch::sharing(shared(), &c, &cycle, 200);
+        assert!(Arc::ptr_eq(same.setup(), first.setup()));
+        let others = [
+            (contact(0.1, 64), Cycle::paper(5.5, 0.0).unwrap(), 200),
+            (contact(0.1, 64), Cycle::paper(5.0, 0.3).unwrap(), 200),
+            (contact(0.2, 64), cycle, 200),
+            (contact(0.1, 32), cycle, 200),
+            (contact(0.1, 64), cycle, 400),
+        ];
+        for (c, cycle, steps) in &others {
+            let search = SafeStateSearch::sharing(shared(), c, cycle, *steps);
+            assert!(!Arc::ptr_eq(search.setup(), first.setup()));
+            let fresh = SafeStateSearch::new(c, cycle, *steps);
+            assert_eq!(search.setup().elastic, fresh.setup().elastic);
+        }
+    }
+
     #[test]
     fn coupling_bounds_the_pressure_of_any_slip_and_is_attained() {
         let n = 64;
