@@ -101,16 +101,23 @@ pub(crate) const QUICK_FIRST: usize = 2;
 /// cycle 2).
 const QUICK_HARMONICS: usize = 8;
 
-/// The quick search starts from the margin rows below this fraction of the
-/// largest (the rest are far from binding), and adds any row its answer
-/// violates, at most [`QUICK_ROUNDS`] times. From 5 % (about 80 of the 256
-/// rows at `N = 128`) the first answer violated most of the others, and
-/// two searches in three needed a second round on about 225 rows; from
-/// 20 % one in three does, and the searches of the Fig. 3 map take a
-/// fifth less time (0.95 s against 1.19 s, 377 searches, one thread),
-/// with the same rows out of the Fig. 3, `phi = pi/2` and Fig. 6 maps.
-const QUICK_ROWS: f64 = 0.2;
+/// Both searches start from the margin rows below this fraction of the
+/// largest (the rest are far from binding) and add any row their answer
+/// violates, at most [`QUICK_ROUNDS`] or [`FULL_ROUNDS`] times. The quick
+/// search from 5 % (about 80 of the 256 rows at `N = 128`) violated most of
+/// the others, and two searches in three needed a second round on about
+/// 225 rows; from 20 % one in three does, and the searches of the Fig. 3
+/// map take a fifth less time (0.95 s against 1.19 s, 377 searches, one
+/// thread). The full search, on every row before, takes about 160 of 256
+/// from 20 % and nearly always one round: the full searches of the Fig. 6
+/// map took 12.3 s against 17.9 s (265 searches, two threads; 15.5 s from
+/// 10 %, 23.0 s from 5 %, where more rounds are needed). The same rows came
+/// out of the Fig. 3, `phi = pi/2` and Fig. 6 maps.
+const START_ROWS: f64 = 0.2;
 const QUICK_ROUNDS: usize = 3;
+/// A full search stops adding rows after this many rounds (three at most
+/// were needed in the Fig. 6 map); its answer is checked exactly anyway.
+const FULL_ROUNDS: usize = 8;
 
 /// How far a run's `W` fell in its last cycle: what decides whether a
 /// search for a safe state is worth its cost.
@@ -404,11 +411,11 @@ impl SafeStateSearch {
 
     /// A safe state `g_s = g + z`, with `z = Z u` over the first `columns`
     /// columns of the basis ([`Basis`]): the change `z`, or `None` if the
-    /// cone programme finds no optimum. With every column it is solved on
-    /// every margin row; the quick search (fewer columns) starts from the
-    /// rows that can bind ([`QUICK_ROWS`]) and adds those its answer
-    /// violates. Either way the answer is only a candidate: its margin is
-    /// recomputed exactly before it proves anything.
+    /// cone programme finds no optimum. It starts from the rows that can
+    /// bind ([`START_ROWS`]) and adds those its answer violates; an answer
+    /// that violates none is the optimum over every row. Either way the
+    /// answer is only a candidate: its margin is recomputed exactly before
+    /// it proves anything.
     fn solve(&self, margins: &[[f64; 2]], columns: usize) -> Option<Vec<f64>> {
         let n = margins.len();
         let basis = self.basis();
@@ -426,37 +433,39 @@ impl SafeStateSearch {
                 gain.push(-s + f * p);
             }
         }
-        let u = if columns == basis.size {
-            let all: Vec<usize> = (0..rows).collect();
-            self.cone_programme(&gain, columns, &flat, &all, false)?
-        } else {
-            // The quick test of `check` leaves some margin positive.
-            let top = flat.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            let mut chosen: Vec<bool> = flat.iter().map(|&m| m < QUICK_ROWS * top).collect();
-            let mut round = 1;
-            loop {
-                let picked: Vec<usize> = (0..rows).filter(|&r| chosen[r]).collect();
-                let x = self.cone_programme(&gain, columns, &flat, &picked, true)?;
-                let delta = x[columns];
-                let mut violated = false;
-                for r in 0..rows {
-                    if chosen[r] {
-                        continue;
-                    }
-                    let value: f64 = flat[r]
-                        + (0..columns)
-                            .map(|col| gain[col * rows + r] * x[col])
-                            .sum::<f64>();
-                    if value < delta {
-                        chosen[r] = true;
-                        violated = true;
-                    }
+        // The quick test of `check` leaves some margin positive; the least
+        // is always taken (with no row the programme would be unbounded).
+        let quick = columns < basis.size;
+        let rounds = if quick { QUICK_ROUNDS } else { FULL_ROUNDS };
+        let top = flat.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let least = flat.iter().copied().fold(f64::INFINITY, f64::min);
+        let mut chosen: Vec<bool> = flat
+            .iter()
+            .map(|&m| m < START_ROWS * top || m == least)
+            .collect();
+        let mut round = 1;
+        let u = loop {
+            let picked: Vec<usize> = (0..rows).filter(|&r| chosen[r]).collect();
+            let x = self.cone_programme(&gain, columns, &flat, &picked, quick)?;
+            let delta = x[columns];
+            let mut violated = false;
+            for r in 0..rows {
+                if chosen[r] {
+                    continue;
                 }
-                if !violated || round == QUICK_ROUNDS {
-                    break x;
+                let value: f64 = flat[r]
+                    + (0..columns)
+                        .map(|col| gain[col * rows + r] * x[col])
+                        .sum::<f64>();
+                if value < delta {
+                    chosen[r] = true;
+                    violated = true;
                 }
-                round += 1;
             }
+            if !violated || round == rounds {
+                break x;
+            }
+            round += 1;
         };
         let mut z = vec![0.0; n];
         for (col, &uc) in u[..columns].iter().enumerate() {
@@ -552,10 +561,10 @@ impl SafeStateSearch {
         });
         solver.solve();
         // Whatever the solver stopped at is only a candidate (checked
-        // exactly) or, in the quick search's first rounds, a guide to the
-        // rows that bind: so the last iterate of a search that ran out of
-        // progress or iterations serves too. (On the few rows a quick search
-        // starts from, the programme is nearly unbounded: the iterate runs
+        // exactly) or, in a search's first rounds, a guide to the rows
+        // that bind: so the last iterate of a search that ran out of
+        // progress or iterations serves too. (On the few rows a search
+        // starts from, the programme can be nearly unbounded: the iterate runs
         // to the distance cap and Clarabel reports insufficient progress.
         // Refused, it left runs such as lambda = 3.25, path 7,-7 of the
         // Fig. 3 map unproven until cycle 37; the next round, on the rows
