@@ -417,6 +417,12 @@ impl SafeStateSearch {
     /// answer is only a candidate: its margin is recomputed exactly before
     /// it proves anything.
     fn solve(&self, margins: &[[f64; 2]], columns: usize) -> Option<Vec<f64>> {
+        self.solve_from(margins, columns, START_ROWS)
+    }
+
+    /// [`Self::solve`] from the rows below `start` times the largest margin
+    /// (every row for `f64::INFINITY`).
+    fn solve_from(&self, margins: &[[f64; 2]], columns: usize, start: f64) -> Option<Vec<f64>> {
         let n = margins.len();
         let basis = self.basis();
         let f = self.friction;
@@ -441,7 +447,7 @@ impl SafeStateSearch {
         let least = flat.iter().copied().fold(f64::INFINITY, f64::min);
         let mut chosen: Vec<bool> = flat
             .iter()
-            .map(|&m| m < START_ROWS * top || m == least)
+            .map(|&m| m < start * top || m == least)
             .collect();
         let mut round = 1;
         let u = loop {
@@ -725,6 +731,65 @@ mod tests {
             he[0],
             c * norm
         );
+    }
+
+    /// A full search from the rows that can bind, adding those its answer
+    /// violates, ends where a search on every row does: where neither
+    /// proves anything (both run to the optimum) with the same value
+    /// `delta - f C R`, recomputed exactly over every row; where one
+    /// proves, so does the other.
+    #[test]
+    fn a_search_from_the_binding_rows_ends_at_the_optimum_over_every_row() {
+        use crate::model::{Material, Plane};
+        let n = 64;
+        let material = Material::new(0.1, 0.3, Plane::Strain).unwrap();
+        let ops = Arc::new(Operators::new(n));
+        let contact = Contact::new(material, Arc::clone(&ops));
+        let search = SafeStateSearch::new(&contact, &Cycle::paper(5.0, 0.0).unwrap(), 200);
+        let columns = search.basis().size;
+        // delta - f C R of the safe state g + z for margins `m` at g.
+        let value = |m: &[[f64; 2]], z: &[f64]| {
+            let (p, d) = (ops.residual_pressure(z), ops.residual_shear(z));
+            let delta = (0..n)
+                .flat_map(|j| {
+                    let f = search.friction;
+                    [m[j][0] + f * p[j] - d[j], m[j][1] + f * p[j] + d[j]]
+                })
+                .fold(f64::INFINITY, f64::min);
+            delta - search.coupling * (-dot(z, &d)).max(0.0).sqrt()
+        };
+        let (mut proving, mut not) = (0, 0);
+        for (level, dip, width) in [
+            (0.02, 0.03, 3.0),
+            (0.02, 0.06, 8.0),
+            (0.01, 0.2, 5.0),
+            (0.005, 0.5, 12.0),
+            (0.03, 1.0, 2.0),
+        ] {
+            // Margins with a dip about node n/4 (sign +) and n/2 (sign -).
+            let margins: Vec<[f64; 2]> = (0..n)
+                .map(|j| {
+                    let bump = |at: f64| (-((j as f64 - at) / width).powi(2)).exp();
+                    let wave = 0.01 * (2.0 * PI * 3.0 * j as f64 / n as f64).cos();
+                    [
+                        level + wave - dip * bump(n as f64 / 4.0),
+                        level - wave - 0.5 * dip * bump(n as f64 / 2.0),
+                    ]
+                })
+                .collect();
+            let from_some = search.solve_from(&margins, columns, START_ROWS).unwrap();
+            let from_all = search.solve_from(&margins, columns, f64::INFINITY).unwrap();
+            let (a, b) = (value(&margins, &from_some), value(&margins, &from_all));
+            assert_eq!(a > PROOF_TOLERANCE, b > PROOF_TOLERANCE, "{a} vs {b}");
+            if b > PROOF_TOLERANCE {
+                proving += 1;
+            } else {
+                not += 1;
+                assert!((a - b).abs() <= 1e-6 * b.abs().max(1e-3), "{a} vs {b}");
+            }
+        }
+        // Both kinds were met.
+        assert!(proving > 0 && not > 0, "{proving} proving, {not} not");
     }
 
     #[test]
