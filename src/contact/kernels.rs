@@ -303,7 +303,7 @@ fn at_limit_kernel(p: &[f64], q: &[f64], off: &[f64], f: f64, out: &mut Vec<usiz
         }
         if (hit[0] | hit[1]) | (hit[2] | hit[3]) {
             // A push per hit: an `extend` from a filter here was not
-            // inlined, and cost about 1 % of a sweep.
+            // inlined, and took about 0.8 % of a sweep's time.
             for (i, &h) in hit.iter().enumerate() {
                 if h {
                     out.push(4 * g + i);

@@ -186,10 +186,11 @@ pub(super) fn same_directions(a: &[SlipDirection], b: &[SlipDirection]) -> bool 
 }
 
 /// The nodes at which two slip sets' directions differ, appended to `out`
-/// in node order. Chunks of 16 nodes are compared at once, and only a
-/// chunk that differs node by node: an event changes a node or two of the
-/// `N`, and passes with a branch per node (here and in the set's update)
-/// were some 4 % of a sweep's instructions.
+/// in node order. Chunks of 16 nodes are compared at once, as two 128-bit
+/// numbers, and the differing bytes of a chunk that differs give its
+/// nodes: an event changes a node or two of the `N`, and passes with a
+/// branch per node (here and in the set's update) were some 4 % of a
+/// sweep's instructions.
 pub(super) fn push_differences(a: &[SlipDirection], b: &[SlipDirection], out: &mut Vec<usize>) {
     const CHUNK: usize = 16;
     debug_assert_eq!(a.len(), b.len());

@@ -665,7 +665,9 @@ const EARLY_VALUE: f64 = 1e-8;
 /// Fig. 3 map's quick searches took 4162 interior-point iterations against
 /// 7017 (the same rows out, every proof standing at the same cycle), and
 /// the Fig. 6 map gave the same rows; at `1e-3` one run of the Fig. 3 map
-/// (`lambda = 4.1`, path `-7,-7`) was proven at cycle 4 instead of 2.
+/// (`lambda = 4.1`, path `-7,-7`) was proven at cycle 4 instead of 2. The
+/// certificate's numbers are those of the coarser point (a looser slip
+/// bound: 6.1 against 5.0 at `lambda = 4.5`, path `7,-7`).
 const PROOF_RESIDUAL: f64 = 1e-4;
 
 /// The cap on the energy distance `R` of a safe state: far beyond any
