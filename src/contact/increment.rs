@@ -189,6 +189,37 @@ impl Increment {
     }
 }
 
+/// `[hpx, hpy, hqx, hqy]` ([`Engine::responses`]) from `own`, or, for an
+/// axis that `lent` gives a start in `pool`, `H g'` then `-|D| g'` there.
+fn lent_or_own<'a>(
+    pool: &'a [f64],
+    lent: [Option<usize>; 2],
+    own: [&'a [f64]; 4],
+) -> [&'a [f64]; 4] {
+    let [mut hpx, mut hpy, mut hqx, mut hqy] = own;
+    let n = hpx.len();
+    if let Some(at) = lent[0] {
+        (hpx, hqx) = (&pool[at..at + n], &pool[at + n..at + 2 * n]);
+    }
+    if let Some(at) = lent[1] {
+        (hpy, hqy) = (&pool[at..at + n], &pool[at + n..at + 2 * n]);
+    }
+    [hpx, hpy, hqx, hqy]
+}
+
+/// Total pressure and shear per unit of the axis `(ux, uy)`: its elastic
+/// part from those per unit `x` and `y` (`[epx, epy, eqx, eqy]`), plus the
+/// residual `[H g', -|D| g']`.
+fn add_totals(
+    [tp, tq]: [&mut [f64]; 2],
+    (ux, uy): (f64, f64),
+    [epx, epy, eqx, eqy]: [&[f64]; 4],
+    [hp, hq]: [&[f64]; 2],
+) {
+    kernels::combine_plus(tp, ux, epx, uy, epy, hp);
+    kernels::combine_plus(tq, ux, eqx, uy, eqy, hq);
+}
+
 /// Cached responses of one slip set and the scratch of the increment.
 #[derive(Clone)]
 pub(crate) struct Engine {
@@ -211,11 +242,18 @@ pub(crate) struct Engine {
     /// Slip rates on the set per unit `u1` and `u2` (zero elsewhere).
     gx: Vec<f64>,
     gy: Vec<f64>,
-    /// Residual pressure `H g'` and shear `-|D| g'` per unit `u1` and `u2`.
+    /// Residual pressure `H g'` and shear `-|D| g'` per unit `u1` and `u2`,
+    /// unless `lent` says where in the cache's pool they are.
     hpx: Vec<f64>,
     hpy: Vec<f64>,
     hqx: Vec<f64>,
     hqy: Vec<f64>,
+    /// Per axis, the start in the cache's pool of the kept `H g'` then
+    /// `-|D| g'` that a hit gave, read there instead of copied out (the
+    /// copy was 4 % of the Fig. 3 map's time, from memory the pool holds in
+    /// L3). The pool's numbers move only when an entry is inserted, and the
+    /// set changes before that, which clears these ([`Engine::responses`]).
+    lent: [Option<usize>; 2],
     /// Elastic pressure and shear per unit `x` and `y`.
     epx: Vec<f64>,
     epy: Vec<f64>,
@@ -343,19 +381,55 @@ impl Engine {
     /// Total responses to the direction of `axis`.
     fn totals(&mut self, axis: usize) {
         let (ux, uy) = self.axis(axis);
+        let own = [&self.hpx[..], &self.hpy, &self.hqx, &self.hqy];
+        let [hpx, hpy, hqx, hqy] = lent_or_own(self.cache.pool(), self.lent, own);
         let (tp, tq, hp, hq) = if axis == 0 {
-            (&mut self.tpx, &mut self.tqx, &self.hpx, &self.hqx)
+            (&mut self.tpx, &mut self.tqx, hpx, hqx)
         } else {
-            (&mut self.tpy, &mut self.tqy, &self.hpy, &self.hqy)
+            (&mut self.tpy, &mut self.tqy, hpy, hqy)
         };
-        kernels::combine_plus(tp, ux, &self.epx, uy, &self.epy, hp);
-        kernels::combine_plus(tq, ux, &self.eqx, uy, &self.eqy, hq);
+        let elastic = [&self.epx[..], &self.epy, &self.eqx, &self.eqy];
+        add_totals([tp, tq], (ux, uy), elastic, [hp, hq]);
+    }
+
+    /// `H g'` and `-|D| g'` per unit `u1` and `u2`, `[hpx, hpy, hqx, hqy]`:
+    /// in place in the cache's pool where a hit lent them.
+    fn responses(&self) -> [&[f64]; 4] {
+        let own = [&self.hpx[..], &self.hpy, &self.hqx, &self.hqy];
+        lent_or_own(self.cache.pool(), self.lent, own)
+    }
+
+    /// A clone that holds its responses itself: a clone's cache starts
+    /// empty, so what this one's lent is copied out of it.
+    pub(super) fn clone_owning(&self) -> Self {
+        let mut clone = self.clone();
+        clone.own_responses(&self.cache);
+        clone
+    }
+
+    /// Copy the responses that `cache` lent (this engine's cache, or that
+    /// of the engine this one was cloned from) into the engine's own
+    /// arrays: before the cache goes or is replaced.
+    pub(super) fn own_responses(&mut self, cache: &ResponseCache) {
+        let n = self.full.len();
+        let pool = cache.pool();
+        for (axis, at) in std::mem::take(&mut self.lent).into_iter().enumerate() {
+            let Some(at) = at else { continue };
+            let (hp, hq) = if axis == 0 {
+                (&mut self.hpx, &mut self.hqx)
+            } else {
+                (&mut self.hpy, &mut self.hqy)
+            };
+            hp.copy_from_slice(&pool[at..at + n]);
+            hq.copy_from_slice(&pool[at + n..at + 2 * n]);
+        }
     }
 
     /// The responses to the direction of `axis` from its slip rates in
     /// `full` (zero off the set): `H g'` and `-|D| g'` by FFT, and totals.
     fn fill_axis(&mut self, ops: &Operators, fft: &mut FftScratch, axis: usize) {
         self.rg_for = None;
+        self.lent[axis] = None;
         let (g, hp, hq) = if axis == 0 {
             (&mut self.gx, &mut self.hpx, &mut self.hqx)
         } else {
@@ -372,21 +446,29 @@ impl Engine {
     }
 
     /// The responses to the direction of `axis` from its slip rates in
-    /// `full` and the kept `H g'` then `-|D| g'` of a cache entry: the
-    /// numbers [`Self::fill_axis`] would compute, without the FFT.
-    fn restore_axis(&mut self, axis: usize, kept: &[f64]) {
+    /// `full` and the kept `H g'` then `-|D| g'` of a cache entry, which
+    /// start at `at` in the cache's pool: the numbers [`Self::fill_axis`]
+    /// would compute, without the FFT, and read where they are kept.
+    fn restore_axis(&mut self, axis: usize, kept: &[f64], at: usize) {
         self.rg_for = None;
-        let n = self.full.len();
-        let (g, hp, hq) = if axis == 0 {
-            (&mut self.gx, &mut self.hpx, &mut self.hqx)
+        let g = if axis == 0 {
+            &mut self.gx
         } else {
-            (&mut self.gy, &mut self.hpy, &mut self.hqy)
+            &mut self.gy
         };
         // `full` is filled afresh before each use: hand its buffer over.
         std::mem::swap(g, &mut self.full);
-        hp.copy_from_slice(&kept[..n]);
-        hq.copy_from_slice(&kept[n..]);
-        self.totals(axis);
+        let n = self.full.len();
+        let (hp, hq) = kept.split_at(n);
+        let (ux, uy) = self.axis(axis);
+        let (tp, tq) = if axis == 0 {
+            (&mut self.tpx, &mut self.tqx)
+        } else {
+            (&mut self.tpy, &mut self.tqy)
+        };
+        let elastic = [&self.epx[..], &self.epy, &self.eqx, &self.eqy];
+        add_totals([tp, tq], (ux, uy), elastic, [hp, hq]);
+        self.lent[axis] = Some(at);
     }
 
     pub(super) fn new(n: usize) -> Self {
@@ -405,6 +487,7 @@ impl Engine {
             hpy: z(),
             hqx: z(),
             hqy: z(),
+            lent: [None; 2],
             epx: z(),
             epy: z(),
             eqx: z(),
@@ -466,14 +549,17 @@ impl Contact {
         let w = self.work.as_mut()?;
         let empty = w.engine.cache.clone();
         w.engine.slot = None;
-        Some(std::mem::replace(&mut w.engine.cache, empty))
+        let cache = std::mem::replace(&mut w.engine.cache, empty);
+        w.engine.own_responses(&cache);
+        Some(cache)
     }
 
     /// Start from the cached rates `cache` of another contact with the same
     /// operators and friction ([`Contact::take_response_cache`]).
     pub(crate) fn give_response_cache(&mut self, cache: ResponseCache) {
         if let Some(w) = &mut self.work {
-            w.engine.cache = cache;
+            let old = std::mem::replace(&mut w.engine.cache, cache);
+            w.engine.own_responses(&old);
             w.engine.slot = None;
         }
     }
@@ -683,6 +769,8 @@ impl Contact {
         e.valid = false;
         e.u1 = (dx, dy);
         e.have2 = false;
+        // The set's responses go with it, before the cache can change.
+        e.lent = [None; 2];
         e.change_set_to_trial();
         // The inverse follows the set only when it solves (a hit does not
         // ask it): it looks at the nodes changed since then, not at all.
@@ -703,24 +791,24 @@ impl Contact {
         // The cache is lent out while its entry fills the engine (no
         // allocation: an empty cache holds none).
         let mut cache = std::mem::replace(&mut e.cache, ResponseCache::new(0));
-        let hit = cache.lookup(&e.key);
-        if let Some(hit) = hit {
+        if let Some(slot) = cache.find(&e.key) {
             // A set met before: its slip rates, and p and q from the kept
             // responses or by one FFT.
+            let hit = cache.hit(slot);
             e.u1 = hit.u1;
             e.slot = Some(hit.slot);
-            for (axis, rates, responses) in [
-                (0, Some(hit.first), hit.first_responses),
-                (1, hit.second, hit.second_responses),
+            for (axis, rates, kept, at) in [
+                (0, Some(hit.first), hit.first_responses, hit.responses_at[0]),
+                (1, hit.second, hit.second_responses, hit.responses_at[1]),
             ] {
                 let Some(rates) = rates else { continue };
                 e.full.fill(0.0);
                 for (&(j, _), &r) in e.set.iter().zip(rates) {
                     e.full[j] = r;
                 }
-                match responses {
-                    Some(kept) => e.restore_axis(axis, kept),
-                    None => e.fill_axis(&self.ops, &mut w.fft, axis),
+                match (kept, at) {
+                    (Some(kept), Some(at)) => e.restore_axis(axis, kept, at),
+                    _ => e.fill_axis(&self.ops, &mut w.fft, axis),
                 }
             }
             e.have2 = hit.second.is_some();
@@ -1059,7 +1147,7 @@ impl Contact {
             tx,
             ty,
             elastic,
-            responses: [&e.hpx, &e.hpy, &e.hqx, &e.hqy],
+            responses: e.responses(),
             trig: [&self.sin, &self.cos],
             rates: &e.rg,
         };
@@ -1376,5 +1464,44 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Two back-and-forth cycles of a load that slips, at `N = 128`: the
+    /// second meets the sets of the first, and reads their kept responses
+    /// in place in the cache. A clone made there, and the contact after its
+    /// cache is taken and given back, hold the very responses the contact
+    /// read, in their own arrays (a clone's cache starts empty: read in
+    /// place, its responses would be out of bounds or another set's).
+    #[test]
+    fn responses_read_in_place_survive_a_clone_and_a_handed_cache() {
+        use crate::model::{Discretisation, LoadPoint, Material};
+        use crate::Contact;
+        let own = |c: &Contact| -> Vec<Vec<f64>> {
+            let e = &c.work.as_ref().expect("advanced").engine;
+            e.responses().iter().map(|r| r.to_vec()).collect()
+        };
+        let disc = Discretisation::default();
+        let mut c = Contact::new(Material::paper(), crate::stepping::operators(&disc));
+        let mut lent_seen = 0;
+        for i in 1..=800 {
+            let t = i as f64 / 400.0 * 2.0 * std::f64::consts::PI;
+            c.advance(LoadPoint::new(2.0 * t.sin(), 5.8 * t.sin()))
+                .expect("advances");
+            let lent = c.work.as_ref().expect("advanced").engine.lent;
+            if i <= 400 || lent[0].is_none() {
+                continue;
+            }
+            lent_seen += 1;
+            let read = own(&c);
+            let clone = c.clone();
+            let ce = &clone.work.as_ref().expect("cloned").engine;
+            assert_eq!(ce.lent, [None, None]);
+            assert_eq!(own(&clone), read);
+            let cache = c.take_response_cache().expect("a cache");
+            assert_eq!(c.work.as_ref().expect("advanced").engine.lent, [None, None]);
+            assert_eq!(own(&c), read);
+            c.give_response_cache(cache);
+        }
+        assert!(lent_seen > 10, "{lent_seen} increments read a hit in place");
     }
 }

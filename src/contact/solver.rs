@@ -302,7 +302,6 @@ impl Trial {
 /// Scratch space of the active-set iteration, kept between increments so
 /// that a run allocates little per increment, with the reduced-system
 /// solver and its factorisations.
-#[derive(Clone)]
 pub(super) struct Workspace {
     p0: Vec<f64>,
     q0: Vec<f64>,
@@ -317,6 +316,26 @@ pub(super) struct Workspace {
     pub(super) inverse: SetInverse,
     /// The exact path-following increment's cached responses and scratch.
     pub(super) engine: Engine,
+}
+
+impl Clone for Workspace {
+    fn clone(&self) -> Self {
+        // The engine's clone starts with an empty cache ([`Engine::clone_owning`]).
+        let engine = self.engine.clone_owning();
+        Self {
+            p0: self.p0.clone(),
+            q0: self.q0.clone(),
+            set: self.set.clone(),
+            rhs: self.rhs.clone(),
+            x: self.x.clone(),
+            pressure_change: self.pressure_change.clone(),
+            relief: self.relief.clone(),
+            fft: self.fft.clone(),
+            reduced: self.reduced.clone(),
+            inverse: self.inverse.clone(),
+            engine,
+        }
+    }
 }
 
 impl Workspace {
