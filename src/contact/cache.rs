@@ -323,7 +323,9 @@ impl ResponseCache {
     }
 
     /// The pool of kept numbers, which [`Hit::responses_at`] points into.
-    /// Its numbers move only at an [`Self::insert`].
+    /// Its numbers move only when entries are evicted or compacted: at an
+    /// [`Self::insert`], or an [`Self::add_second`] past the budget
+    /// ([`Self::second_would_evict`]).
     pub(crate) fn pool(&self) -> &[f64] {
         &self.floats
     }
@@ -410,9 +412,17 @@ impl ResponseCache {
         e.responses[1] = kept;
         e.have2 = true;
         self.bytes = self.bytes - before + e.bytes();
-        // Past the budget, the next insert evicts: the pool's numbers stay
-        // where they are until then, for an engine that reads a hit's
-        // responses in place (the entry that lends them is this one).
+        if self.bytes > self.budget {
+            self.evict();
+        }
+    }
+
+    /// Whether [`Self::add_second`] of `rates` slip rates and the
+    /// responses at `nodes` nodes would pass the budget, and so evict and
+    /// move the pool's numbers.
+    pub(crate) fn second_would_evict(&self, rates: usize, nodes: usize) -> bool {
+        let kept = if nodes > RESPONSE_NODES { 0 } else { 2 * nodes };
+        self.bytes + 8 * (rates + kept) > self.budget
     }
 
     /// Drop the least recently used half.
@@ -591,5 +601,35 @@ mod tests {
         let hit = c.lookup(&a).expect("held");
         assert!(hit.first_responses.is_none());
         assert_eq!(hit.first[5], 5.0);
+    }
+
+    /// `second_would_evict` says beforehand whether `add_second` evicts (an
+    /// engine reading a hit in place copies it out first when it does).
+    #[test]
+    fn a_second_response_past_the_budget_is_foretold() {
+        let n = 16;
+        let (hp, hq) = (vec![1.0; n], vec![2.0; n]);
+        let (mut evicted, mut kept) = (0, 0);
+        for k in 0..200usize {
+            let mut c = ResponseCache::new(4 << 10);
+            let mut last = None;
+            for i in 0..=k % 23 {
+                let s = set(n, i, i + 1 + k % 5);
+                let slot = c.insert(&s, (1.0, 0.0), (0..1 + k % 5).map(|v| v as f64), (&hp, &hq));
+                last = slot.map(|slot| (slot, s));
+            }
+            let Some((slot, s)) = last else { continue };
+            let would = c.second_would_evict(1 + k % 5, n);
+            let before = c.entries.len();
+            c.add_second(slot, &s, (0..1 + k % 5).map(|v| -(v as f64)), (&hq, &hp));
+            assert_eq!(would, c.entries.len() < before, "case {k}");
+            assert!(c.bytes() <= 4 << 10);
+            if would {
+                evicted += 1;
+            } else {
+                kept += 1;
+            }
+        }
+        assert!(evicted > 10 && kept > 10, "{evicted} evicted, {kept} not");
     }
 }

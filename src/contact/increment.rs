@@ -251,8 +251,10 @@ pub(crate) struct Engine {
     /// Per axis, the start in the cache's pool of the kept `H g'` then
     /// `-|D| g'` that a hit gave, read there instead of copied out (the
     /// copy was 4 % of the Fig. 3 map's time, from memory the pool holds in
-    /// L3). The pool's numbers move only when an entry is inserted, and the
-    /// set changes before that, which clears these ([`Engine::responses`]).
+    /// L3). The pool's numbers move only at an eviction or a compaction
+    /// ([`ResponseCache::pool`]): an insert follows a miss, after the change
+    /// of set that cleared these, and the response to `u2` added to a lent
+    /// entry copies them out first if it would evict.
     lent: [Option<usize>; 2],
     /// Elastic pressure and shear per unit `x` and `y`.
     epx: Vec<f64>,
@@ -892,6 +894,13 @@ impl Contact {
         let e = &mut w.engine;
         e.have2 = true;
         if let Some(slot) = e.slot {
+            if e.lent[0].is_some() && e.cache.second_would_evict(e.set.len(), e.gy.len()) {
+                // The eviction moves the pool's numbers: the lent ones
+                // are copied out first.
+                let cache = std::mem::replace(&mut e.cache, ResponseCache::new(0));
+                e.own_responses(&cache);
+                e.cache = cache;
+            }
             e.cache.add_second(
                 slot,
                 &e.key,
