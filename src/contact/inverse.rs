@@ -52,6 +52,9 @@ use super::operators::Operators;
 use super::reduced::DenseLu;
 use super::solver::SlipDirection;
 
+mod structured;
+use structured::{Bordered, Structured};
+
 const NONE: usize = usize::MAX;
 
 /// A pivot (Schur complement or capacitance pivot) below this fraction of
@@ -658,6 +661,14 @@ pub(crate) struct SetInverse {
     dirty: Vec<usize>,
     is_dirty: Vec<bool>,
     factor: DenseLu,
+    /// The size of the base when the structured borderings were last
+    /// taken up (they are set up again only after a quarter of
+    /// [`structured::MIN_NODES`] more nodes).
+    last_entry: usize,
+    /// The vectors of the structured borderings while the base is a few
+    /// arcs ([`structured`]); the dense factors then cover the positions
+    /// before `perm.len()` only.
+    structured: Option<Box<Structured>>,
 }
 
 impl Clone for SetInverse {
@@ -704,6 +715,8 @@ impl SetInverse {
             dirty: Vec::with_capacity(n),
             is_dirty: vec![false; n],
             factor: DenseLu::new(0),
+            last_entry: 0,
+            structured: None,
         }
     }
 
@@ -857,10 +870,11 @@ impl SetInverse {
             self.changed = changed;
             return self.rebuild(ops, friction, target);
         }
-        for &(p, role) in &changed {
-            self.set_role(ops, p, role);
-        }
+        let roles_set = changed.iter().all(|&(p, role)| self.set_role(ops, p, role));
         self.changed = changed;
+        if !roles_set {
+            return self.rebuild(ops, friction, target);
+        }
         let dirty = std::mem::take(&mut self.dirty);
         let bordered = dirty.iter().all(|&j| {
             let d = target[j];
@@ -896,6 +910,8 @@ impl SetInverse {
         self.friction = friction;
         self.updates = 0;
         self.rebuilds += 1;
+        self.structured = None;
+        self.last_entry = 0;
         self.valid = false;
         let k = self.nodes.len();
         self.perm.clear();
@@ -977,7 +993,7 @@ impl SetInverse {
     /// Give the factors the column stride `ld` (at most `N`), moving their
     /// columns: `O(k^2)`, once per `k / 8` entries at most.
     fn relayout(&mut self, ld: usize) {
-        let (old, k) = (self.ld, self.nodes.len());
+        let (old, k) = (self.ld, self.perm.len());
         let ld = ld.min(self.n);
         if ld > old {
             for j in (1..k).rev() {
@@ -994,9 +1010,19 @@ impl SetInverse {
     /// Give the position `p` of `A` the role `role` in the correction:
     /// its column `A^-1 e_p` when it leaves the active nodes, its row's
     /// change when it reverses.
-    fn set_role(&mut self, ops: &Operators, p: usize, role: Role) {
+    ///
+    /// False if the dense factors, bordered up to the set first where a
+    /// new column `A^-1 e_p` needs them, meet a small pivot.
+    fn set_role(&mut self, ops: &Operators, p: usize, role: Role) -> bool {
         let (n, k) = (self.n, self.nodes.len());
         let old = self.roles[p];
+        // A^-1 e_p: from the structured vectors if they give it, else from
+        // the dense factors (bordered up to the set first).
+        let leaves = old == Role::Active && role != Role::Active;
+        let by_structure = leaves && self.structured_column(ops, p);
+        if leaves && !by_structure && !self.catch_up(ops) {
+            return false;
+        }
         self.roles[p] = role;
         if role == Role::Active {
             // Out of the correction: the last slot moves into its slot.
@@ -1007,12 +1033,17 @@ impl SetInverse {
                 self.deltas.copy_within(last * n..last * n + k, t * n);
             }
             self.special.swap_remove(t);
-            return;
+            return true;
         }
         let t = if old == Role::Active {
             // A^-1 e_p: row perm_inv[p] of the factors' right-hand side.
             let t = self.special.len();
             self.special.push(p);
+            if by_structure {
+                let st = self.structured.as_ref().expect("structured");
+                self.special_cols[t * n..t * n + k].copy_from_slice(&st.column()[..k]);
+                return self.set_delta(ops, p, t, role);
+            }
             let from = self.perm_inv[p];
             let ld = self.ld;
             let y = &mut self.special_cols[t * n..t * n + k];
@@ -1029,6 +1060,12 @@ impl SetInverse {
         } else {
             self.special.iter().position(|&q| q == p).expect("slot")
         };
+        self.set_delta(ops, p, t, role)
+    }
+
+    /// The change of the row of position `p` (slot `t`) if it reverses.
+    fn set_delta(&mut self, ops: &Operators, p: usize, t: usize, role: Role) -> bool {
+        let (n, k) = (self.n, self.nodes.len());
         if role == Role::Reversed {
             // Row p gains 2 f s H[node, S] (H[node, c] = -H[c, node]).
             let f2 = -2.0 * self.friction * self.signs[p];
@@ -1038,57 +1075,144 @@ impl SetInverse {
                 *d = f2 * hcol[node];
             }
         }
+        true
     }
 
     /// Node `a` enters with sign `sign`: `A` is bordered by its column and
-    /// row, and the kept solutions and correction columns follow.
+    /// row, and the kept solutions and correction columns follow; false if
+    /// the Schur complement is too small (the caller refactorises).
+    ///
+    /// Next to an arc of a base of a few arcs, by the arcs' structure
+    /// ([`structured`]); else through the dense factors (bordered up to
+    /// the set first if structured borderings left them behind), after
+    /// which a large base of a few arcs takes up the structured ones.
     fn border(&mut self, ops: &Operators, a: usize, sign: f64) -> bool {
-        let (k, f, n) = (self.nodes.len(), self.friction, self.n);
-        // Column M_Sa and row M_aS (H is odd and |D| even in theta, so the
-        // row is read from column a).
+        if self.structured.is_some() {
+            match self.border_structured(ops, a, sign) {
+                Bordered::Done => return true,
+                Bordered::Singular => return false,
+                Bordered::NotHere => {
+                    if !self.catch_up(ops) {
+                        return false;
+                    }
+                }
+            }
+        }
+        // Kept if the node starts an arc of its own.
+        let kept = self.structured.take();
+        let k = self.nodes.len();
+        self.push(a, sign);
+        let Some(sigma) = self.extend_factors(ops, k) else {
+            return false;
+        };
+        // `push` came first for the factors; the kept vectors follow the
+        // bordering of the old set.
+        self.pop();
+        self.follow_border(ops, a, sign, sigma);
+        self.push(a, sign);
+        if let Some(st) = kept {
+            self.structured = st.add_arc(self, ops, a, sign, sigma);
+            return true;
+        }
+        if k + 1 >= structured::MIN_NODES && self.last_entry + structured::MIN_NODES / 4 <= k {
+            self.last_entry = k;
+            self.structured = Structured::enter(self, ops);
+        }
+        true
+    }
+
+    /// Append node `a` with sign `sign` to the base, active.
+    fn push(&mut self, a: usize, sign: f64) {
+        self.pos[a] = self.nodes.len();
+        self.nodes.push(a);
+        self.signs.push(sign);
+        self.roles.push(Role::Active);
+    }
+
+    /// Undo [`Self::push`].
+    fn pop(&mut self) {
+        if let Some(a) = self.nodes.pop() {
+            self.pos[a] = NONE;
+            self.signs.pop();
+            self.roles.pop();
+        }
+    }
+
+    /// Border the dense factors of positions `0..p` with position `p`
+    /// (its column and row over them): `l`, `u` and `v = A^-1 c` from one
+    /// pass ([`border_pass`]), `v` and the row left in `self.v` and
+    /// `self.row`; the Schur complement, or `None` if it is too small.
+    fn extend_factors(&mut self, ops: &Operators, p: usize) -> Option<f64> {
+        debug_assert_eq!(self.perm.len(), p, "factors up to p");
+        let (a, sign) = (self.nodes[p], self.signs[p]);
+        let (nodes, signs) = (&self.nodes[..p], &self.signs[..p]);
+        let f = self.friction;
         let hcol = ops.hilbert_col(a);
         let dcol = ops.abs_derivative_col(a);
-        let (col, row) = (&mut self.col[..k], &mut self.row[..k]);
-        for ((c, r), (&node, &s)) in col
-            .iter_mut()
-            .zip(row)
-            .zip(self.nodes.iter().zip(&self.signs))
-        {
+        let (col, row) = (&mut self.col[..p], &mut self.row[..p]);
+        for ((c, r), (&node, &s)) in col.iter_mut().zip(row).zip(nodes.iter().zip(signs)) {
             *c = -dcol[node] - f * s * hcol[node];
             *r = -dcol[node] + f * sign * hcol[node];
         }
         let d0 = Self::entry(ops, f, a, sign, a);
         // u = L^-1 P c, l = U^-T r and v = U^-1 u = A^-1 c.
-        let col = &self.col[..k];
-        for (ui, &p) in self.u[..k].iter_mut().zip(&self.perm) {
-            *ui = col[p];
+        let col = &self.col[..p];
+        for (ui, &q) in self.u[..p].iter_mut().zip(&self.perm) {
+            *ui = col[q];
         }
         let factors = Factors {
             lu: &self.lu,
             ld: self.ld,
-            k,
+            k: p,
         };
         border_pass(factors, &mut self.u, &self.row, &mut self.l, &mut self.v);
-        let lu_dot = dot(&self.l[..k], &self.u[..k]);
+        let lu_dot = dot(&self.l[..p], &self.u[..p]);
         let sigma = d0 - lu_dot;
         let scale = d0.abs().max(lu_dot.abs());
         if !sigma.is_finite() || sigma.abs() <= PIVOT_TOL * scale {
-            return false;
+            return None;
         }
-        if k == self.ld {
-            self.relayout(stride(k, self.n));
+        if p == self.ld {
+            self.relayout(stride(p, self.n));
         }
         // The bordered factors: row l of L, and U's new column (u, sigma)
         // inverted, the column (-v / sigma, 1 / sigma) of W.
         let ld = self.ld;
         let lu = &mut self.lu[..];
-        for (j, &lj) in self.l[..k].iter().enumerate() {
-            lu[j * ld + k] = lj;
+        for (j, &lj) in self.l[..p].iter().enumerate() {
+            lu[j * ld + p] = lj;
         }
-        for (o, &vi) in lu[k * ld..k * ld + k].iter_mut().zip(&self.v[..k]) {
+        for (o, &vi) in lu[p * ld..p * ld + p].iter_mut().zip(&self.v[..p]) {
             *o = -vi / sigma;
         }
-        lu[k * ld + k] = 1.0 / sigma;
+        lu[p * ld + p] = 1.0 / sigma;
+        self.perm.push(p);
+        self.perm_inv.push(p);
+        Some(sigma)
+    }
+
+    /// Border the dense factors up to the set, where structured borderings
+    /// left them behind; false at a small pivot. The kept solutions (and
+    /// the structured vectors, which stay valid: the base is the same)
+    /// have followed already.
+    fn catch_up(&mut self, ops: &Operators) -> bool {
+        let k = self.nodes.len();
+        if self.perm.len() == k {
+            return true;
+        }
+        if self.ld < k {
+            self.relayout(stride(k, self.n));
+        }
+        (self.perm.len()..k).all(|p| self.extend_factors(ops, p).is_some())
+    }
+
+    /// The kept solutions and correction columns follow the bordering of
+    /// the base (of `k` positions) by node `a` with sign `sign`, given
+    /// `v = A^-1 M_Sa` in `self.v`, the row `M_aS` in `self.row` and the
+    /// Schur complement `sigma`.
+    fn follow_border(&mut self, ops: &Operators, a: usize, sign: f64, sigma: f64) {
+        let (k, f, n) = (self.nodes.len(), self.friction, self.n);
+        let hcol = ops.hilbert_col(a);
         let v = &self.v[..k];
         let row = &self.row[..k];
         // The correction's columns: A_new^-1 e_q = (w + v (r.w) / sigma,
@@ -1117,13 +1241,6 @@ impl SetInverse {
                 sol[k] = xi;
             }
         }
-        self.perm.push(k);
-        self.perm_inv.push(k);
-        self.pos[a] = k;
-        self.nodes.push(a);
-        self.signs.push(sign);
-        self.roles.push(Role::Active);
-        true
     }
 
     /// Factorise the capacitance system of the correction and apply it to
@@ -1541,6 +1658,114 @@ mod tests {
         // pinned and 8 reversed nodes make a few factorisations.
         assert!(inv.rebuilds <= 6, "{} factorisations", inv.rebuilds);
         assert!(special > 1 && wider > 0, "special {special}, wider {wider}");
+    }
+
+    /// Three arcs, two of one sign and one of the other, grow one node at
+    /// a time at their six edges, past the size where the structured
+    /// borderings take over: the kept rates agree with a fresh
+    /// factorisation all along, also after a node that sticks at an edge,
+    /// one that enters on its own (a fourth arc) and one that reverses
+    /// sent the factors after the set.
+    #[test]
+    fn structured_borderings_of_growing_arcs_match_a_fresh_factorisation() {
+        let n = 512;
+        let f = 0.25;
+        let shape = |j: usize, a: f64| (j as f64 * a).sin() + 0.3 * (j as f64 * 0.11).cos();
+        let (ops, mut inv, loads) = loaded(n, shape, 0.013);
+        let mut d = dirs(n, &[(20, 90, 1.0), (180, 250, -1.0), (340, 400, 1.0)]);
+        assert!(update(&mut inv, &ops, f, &d));
+        let mut edges = [
+            (19usize, 0usize),
+            (90, 1),
+            (179, 0),
+            (250, 1),
+            (339, 0),
+            (400, 1),
+        ];
+        let signs = [1.0, 1.0, -1.0, -1.0, 1.0, 1.0];
+        let mut structured = 0;
+        let mut last = 0;
+        let rebuilds = inv.rebuilds;
+        for step in 0..150 {
+            let e = (step * 7 + step / 5) % 6;
+            let (node, side) = edges[e];
+            d[node] = SlipDirection::from_sign(signs[e]);
+            if step == 60 {
+                last = node;
+            }
+            edges[e].0 = if side == 1 {
+                node + 1
+            } else {
+                (node + n - 1) % n
+            };
+            match step {
+                // The node that entered at step 60, an edge still, sticks.
+                61 => d[last] = SlipDirection::Stick,
+                90 => d[470] = SlipDirection::Forward,
+                120 => d[200] = SlipDirection::Backward,
+                _ => {}
+            }
+            assert!(update(&mut inv, &ops, f, &d));
+            structured += usize::from(inv.structured.is_some());
+            if step % 10 == 9 || matches!(step, 61 | 62 | 90 | 91 | 120 | 121) {
+                assert_eq!(inv.directions(), d);
+                check_kept_rates(&inv, &loads, f, n);
+            }
+        }
+        assert!(structured > 100, "{structured} structured borderings");
+        assert!(
+            inv.rebuilds - rebuilds <= 1,
+            "{} factorisations",
+            inv.rebuilds - rebuilds
+        );
+        // And the factors, bordered up to the set, solve its system.
+        assert!(inv.catch_up(&ops));
+        let r = residual(&ops, f, &mut inv, n);
+        assert!(r < 1e-10, "residual {r}");
+    }
+
+    /// Two arcs of one sign grow towards each other and merge, while the
+    /// far edge of one sticks node after node inwards (each new pinned
+    /// node's column shifted from the last one's) and a node enters on its
+    /// own: the kept rates agree with a fresh factorisation all along, and
+    /// the dense factors are needed only for the node on its own.
+    #[test]
+    fn structured_merges_and_retreats_match_a_fresh_factorisation() {
+        let n = 512;
+        let f = 0.3;
+        let shape = |j: usize, a: f64| (j as f64 * a).cos() + 0.2 * (j as f64 * 0.05).sin();
+        let (ops, mut inv, loads) = loaded(n, shape, 0.011);
+        let mut d = dirs(n, &[(60, 200, -1.0), (230, 330, -1.0)]);
+        assert!(update(&mut inv, &ops, f, &d));
+        // One bordering through the factors, then structured ones.
+        let back = SlipDirection::from_sign(-1.0);
+        d[200] = back;
+        assert!(update(&mut inv, &ops, f, &d));
+        assert!(inv.structured.is_some());
+        let factored = inv.perm.len();
+        for step in 0..29 {
+            // 201.. from the left, 229.. down from the right: they meet.
+            d[201 + step.min(14)] = back;
+            d[229 - step.min(14)] = back;
+            if step < 12 {
+                d[60 + step] = SlipDirection::Stick;
+            }
+            if step == 20 {
+                d[420] = back;
+            }
+            assert!(update(&mut inv, &ops, f, &d));
+            assert_eq!(inv.directions(), d);
+            check_kept_rates(&inv, &loads, f, n);
+            // The node on its own needs them (for its column), nothing
+            // before it.
+            if step < 20 {
+                assert_eq!(inv.perm.len(), factored, "dense factors at step {step}");
+            }
+            assert!(inv.structured.is_some(), "structured at step {step}");
+        }
+        assert!(inv.catch_up(&ops));
+        let r = residual(&ops, f, &mut inv, n);
+        assert!(r < 1e-10, "residual {r}");
     }
 
     use proptest::prelude::*;
