@@ -1727,8 +1727,9 @@ mod tests {
     /// Two arcs of one sign grow towards each other and merge, while the
     /// far edge of one sticks node after node inwards (each new pinned
     /// node's column shifted from the last one's) and a node enters on its
-    /// own: the kept rates agree with a fresh factorisation all along, and
-    /// the dense factors are needed only for the node on its own.
+    /// own (its column made by a walk of shifts from the nearest edge):
+    /// the kept rates agree with a fresh factorisation all along, and the
+    /// dense factors are never needed.
     #[test]
     fn structured_merges_and_retreats_match_a_fresh_factorisation() {
         let n = 512;
@@ -1750,17 +1751,20 @@ mod tests {
             if step < 12 {
                 d[60 + step] = SlipDirection::Stick;
             }
-            if step == 20 {
-                d[420] = back;
+            if step >= 15 {
+                // The merged arc grows at the end it took from the other.
+                d[330 + (step - 15)] = back;
+            }
+            if step >= 20 {
+                // A node on its own, then an arc growing both ways, which
+                // meets the merged arc (at 340) and merges with it.
+                d[345 + (step - 20)] = back;
+                d[345 - (step - 20)] = back;
             }
             assert!(update(&mut inv, &ops, f, &d));
             assert_eq!(inv.directions(), d);
             check_kept_rates(&inv, &loads, f, n);
-            // The node on its own needs them (for its column), nothing
-            // before it.
-            if step < 20 {
-                assert_eq!(inv.perm.len(), factored, "dense factors at step {step}");
-            }
+            assert_eq!(inv.perm.len(), factored, "dense factors at step {step}");
             assert!(inv.structured.is_some(), "structured at step {step}");
         }
         assert!(inv.catch_up(&ops));

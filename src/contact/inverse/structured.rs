@@ -54,6 +54,10 @@ use crate::contact::reduced::DenseLu;
 /// system of `2 m - 1`.
 const MAX_ARCS: usize = 4;
 
+/// The farthest from an arc's edge that a node entering on its own has
+/// its column made by shifts (one `O(m k)` shift a node).
+const MAX_WALK: usize = 32;
+
 /// The largest shift system: `m` added and `m` removed nodes.
 const MAX_DIM: usize = 2 * MAX_ARCS;
 
@@ -97,6 +101,8 @@ pub(super) struct Structured {
     fresh: Vec<f64>,
     /// A known column of the inverse, shifted by [`SetInverse::shift_column`].
     w: Vec<f64>,
+    /// Two solutions of a walk of shifts ([`SetInverse::border_isolated`]).
+    walk: [Vec<f64>; 2],
 }
 
 impl Structured {
@@ -167,6 +173,7 @@ impl Structured {
                 y: vec![0.0; n],
                 fresh: vec![0.0; n],
                 w: vec![0.0; n],
+                walk: [vec![0.0; n], vec![0.0; n]],
             })
         })
     }
@@ -317,7 +324,7 @@ impl SetInverse {
                 .map(|side| (j, side))
         });
         let Some((i, s)) = found else {
-            return Bordered::NotHere;
+            return self.border_isolated(ops, st, a, sign);
         };
         let beyond = step(a, s, n);
         if self.pos[beyond] != NONE {
@@ -492,14 +499,25 @@ impl SetInverse {
             w[..k].copy_from_slice(col);
             true
         });
-        let ok = side.is_some_and(|s| self.shift_column(ops, st, s, &w[..k]));
+        let ok = side.is_some_and(|s| self.shift_column(ops, st, s, &w[..k], None));
         st.w = w;
         ok
     }
 
-    /// [`Self::column_by_shift`] from the column `w` of the node before
-    /// (`s = 1`) or after (`s = 0`) the one wanted.
-    fn shift_column(&self, ops: &Operators, st: &mut Structured, s: usize, w: &[f64]) -> bool {
+    /// The set shifted by one node (`d = +1` for `s = 1`, else `-1`):
+    /// from `w = A^-1 z` for `z = e_q` (`col` `None`) or for the column of
+    /// a node `c` outside the set (`col` `Some(c)`, `c` not just outside an
+    /// edge on side `1 - s`), the same for `e_(q + d)` or the column of
+    /// `c + d`, into [`Structured::fresh`]; false if the shift system is
+    /// near singular.
+    fn shift_column(
+        &self,
+        ops: &Operators,
+        st: &mut Structured,
+        s: usize,
+        w: &[f64],
+        col: Option<usize>,
+    ) -> bool {
         let (n, k, m, f) = (self.n, self.nodes.len(), st.arcs.len(), self.friction);
         let o = 1 - s;
         let slot = |j: usize, side: usize| (2 * j + side) * n;
@@ -529,7 +547,7 @@ impl SetInverse {
                 for t in 0..m {
                     put(j, m + t, dot(rj, &st.edge[slot(t, s)..slot(t, s) + k]));
                 }
-                rhs[j] = -dot(rj, w);
+                rhs[j] = col.map_or(0.0, |c| entry(g, sj, c)) - dot(rj, w);
             }
             for t in 0..m {
                 let pt = self.pos[st.arcs[t].edge[s]];
@@ -577,6 +595,119 @@ impl SetInverse {
         }
         st.y = y;
         st.fresh[..k].iter().all(|x| x.is_finite())
+    }
+
+    /// Node `a` enters with no neighbour in the set and starts an arc of
+    /// its own. The solutions for its column and its two neighbours' (the
+    /// new arc's neighbour solutions) come from the nearest edge's
+    /// neighbour solution by shifts of the set, one node a shift
+    /// ([`Self::shift_column`]), instead of from the dense factors.
+    fn border_isolated(
+        &mut self,
+        ops: &Operators,
+        st: &mut Structured,
+        a: usize,
+        sign: f64,
+    ) -> Bordered {
+        let (n, k, m, f) = (self.n, self.nodes.len(), st.arcs.len(), self.friction);
+        if m == MAX_ARCS || (0..2).any(|side| self.pos[step(a, side, n)] != NONE) {
+            return Bordered::NotHere;
+        }
+        // The nearest edge: a = edge + t d, t >= 2 (a has no neighbour in
+        // the set).
+        let distance = |edge: usize, side: usize| {
+            if side == 1 {
+                (a + n - edge) % n
+            } else {
+                (edge + n - a) % n
+            }
+        };
+        let Some((t, j, s)) = (0..m)
+            .flat_map(|j| (0..2).map(move |side| (j, side)))
+            .map(|(j, side)| (distance(st.arcs[j].edge[side], side), j, side))
+            .min()
+        else {
+            return Bordered::NotHere;
+        };
+        if t > MAX_WALK {
+            return Bordered::NotHere;
+        }
+        let o = 1 - s;
+        let slot = |j: usize, side: usize| (2 * j + side) * n;
+        // c_i = edge + i d and its solution s_i: s_1 is the edge's
+        // neighbour solution, and a shift of s_i gives s_(i+1). walk[0] and
+        // walk[1] hold s_(i-1) and s_i; at the end s_(t+1) is in `fresh`.
+        // No c_i may be just outside an edge on the other side (the
+        // shifted set would hold it).
+        let other = st.outside(o, n);
+        let mut walk = std::mem::take(&mut st.walk);
+        let mut c = step(st.arcs[j].edge[s], s, n);
+        walk[1][..k].copy_from_slice(&st.neighbour[slot(j, s)..slot(j, s) + k]);
+        let mut ok = true;
+        for i in 1..=t {
+            if other[..m].contains(&c) || !self.shift_column(ops, st, s, &walk[1][..k], Some(c)) {
+                ok = false;
+                break;
+            }
+            if i < t {
+                walk.swap(0, 1);
+                walk[1][..k].copy_from_slice(&st.fresh[..k]);
+                c = step(c, s, n);
+            }
+        }
+        if !ok {
+            st.walk = walk;
+            return Bordered::NotHere;
+        }
+        // The bordering by a, with v = s_t.
+        let mut row = std::mem::take(&mut self.row);
+        self.row_of(ops, a, sign, &mut row[..k]);
+        let mut vv = std::mem::take(&mut self.v);
+        vv[..k].copy_from_slice(&walk[1][..k]);
+        let v = &vv[..k];
+        let rv = dot(&row[..k], v);
+        let d0 = SetInverse::entry(ops, f, a, sign, a);
+        let sigma = d0 - rv;
+        if !sigma.is_finite() || sigma.abs() <= PIVOT_TOL * d0.abs().max(rv.abs()) {
+            self.row = row;
+            self.v = vv;
+            st.walk = walk;
+            return Bordered::Singular;
+        }
+        let follow = |w: &mut [f64], za: f64| {
+            let xi = (za - dot(&row[..k], &w[..k])) / sigma;
+            w[..k].iter_mut().zip(v).for_each(|(w, &v)| *w -= xi * v);
+            w[k] = xi;
+        };
+        let entry = |col: usize| SetInverse::entry(ops, f, a, sign, col);
+        for (jj, arc) in st.arcs.iter().enumerate() {
+            for side in 0..2 {
+                let g = step(arc.edge[side], side, n);
+                follow(
+                    &mut st.neighbour[slot(jj, side)..slot(jj, side) + k + 1],
+                    entry(g),
+                );
+                follow(&mut st.edge[slot(jj, side)..slot(jj, side) + k + 1], 0.0);
+            }
+        }
+        follow(&mut walk[0][..=k], entry(step(a, o, n)));
+        follow(&mut st.fresh[..=k], entry(step(a, s, n)));
+        st.neighbour.resize(slot(m + 1, 0), 0.0);
+        st.edge.resize(slot(m + 1, 0), 0.0);
+        st.neighbour[slot(m, o)..slot(m, o) + k + 1].copy_from_slice(&walk[0][..=k]);
+        st.neighbour[slot(m, s)..slot(m, s) + k + 1].copy_from_slice(&st.fresh[..=k]);
+        for side in 0..2 {
+            let e = &mut st.edge[slot(m, side)..slot(m, side) + k + 1];
+            e[..k].iter_mut().zip(v).for_each(|(e, &v)| *e = -v / sigma);
+            e[k] = 1.0 / sigma;
+        }
+        st.arcs.push(Arc { edge: [a, a], sign });
+        st.walk = walk;
+        self.row = row;
+        self.v = vv;
+        self.follow_border(ops, a, sign, sigma);
+        self.push(a, sign);
+        Bordered::Done
     }
 
     /// Node `a` fills a gap of one node between the edge `s` of arc `i` and
