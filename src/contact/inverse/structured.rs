@@ -87,7 +87,8 @@ struct Arc {
 
 /// The vectors kept for structured borderings (see the module's
 /// documentation), each of `n` entries by position of `A`, slot
-/// `2 j + side` for arc `j`.
+/// `2 j + side` for arc `j`, with room for [`MAX_ARCS`] arcs (an arc
+/// added allocates nothing).
 pub(super) struct Structured {
     arcs: Vec<Arc>,
     neighbour: Vec<f64>,
@@ -145,10 +146,10 @@ impl Structured {
     /// must cover the set), if the base is made of a few arcs.
     pub(super) fn enter(inv: &mut SetInverse, ops: &Operators) -> Option<Box<Self>> {
         let arcs = Self::arcs(inv)?;
-        let (n, k, m) = (inv.n, inv.nodes.len(), arcs.len());
+        let (n, k) = (inv.n, inv.nodes.len());
         debug_assert_eq!(inv.perm.len(), k, "the factors cover the set");
-        let mut neighbour = vec![0.0; 2 * m * n];
-        let mut edge = vec![0.0; 2 * m * n];
+        let mut neighbour = vec![0.0; 2 * MAX_ARCS * n];
+        let mut edge = vec![0.0; 2 * MAX_ARCS * n];
         let mut x = vec![0.0; n];
         for (j, arc) in arcs.iter().enumerate() {
             for side in 0..2 {
@@ -215,8 +216,6 @@ impl Structured {
             }
         }
         self.arcs.push(Arc { edge: [a, a], sign });
-        self.neighbour.resize(2 * (m + 1) * n, 0.0);
-        self.edge.resize(2 * (m + 1) * n, 0.0);
         for side in 0..2 {
             let e = &mut self.edge[slot(m, side)..slot(m, side) + k1];
             e[..k].iter_mut().zip(v).for_each(|(e, &v)| *e = -v / sigma);
@@ -230,7 +229,10 @@ impl Structured {
             self.neighbour[slot(m, side)..slot(m, side) + k1].copy_from_slice(&x[..k1]);
         }
         self.y = x;
-        self.neighbour.iter().all(|v| v.is_finite()).then_some(self)
+        self.neighbour[slot(m, 0)..slot(m + 1, 0)]
+            .iter()
+            .all(|v| v.is_finite())
+            .then_some(self)
     }
 
     /// Where `A^-1 e_p` starts in [`Self::edge`] if node `node` is an edge
@@ -692,8 +694,6 @@ impl SetInverse {
         }
         follow(&mut walk[0][..=k], entry(step(a, o, n)));
         follow(&mut st.fresh[..=k], entry(step(a, s, n)));
-        st.neighbour.resize(slot(m + 1, 0), 0.0);
-        st.edge.resize(slot(m + 1, 0), 0.0);
         st.neighbour[slot(m, o)..slot(m, o) + k + 1].copy_from_slice(&walk[0][..=k]);
         st.neighbour[slot(m, s)..slot(m, s) + k + 1].copy_from_slice(&st.fresh[..=k]);
         for side in 0..2 {
