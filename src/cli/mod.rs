@@ -347,13 +347,14 @@ pub const INTERACTIVE_STEPS: usize = 2000;
 /// A rough time for one run to its steady state: 10 ms at the defaults
 /// (128 nodes, 400 increments per cycle). The events of a cycle cost most
 /// of it, and they do not depend on the increments: their part grows as
-/// `N^2` with the node count (more events a cycle, each an update of the
-/// reduced inverse; measured 0.15 s at 512 nodes and 0.70 s at 1024 with
-/// 16 to 400 increments a cycle). The increments add about 40 ns per node
-/// and increment per cycle (0.06 s at 1024 nodes and 1600 increments).
+/// about `N^2` with the node count (more events a cycle, each an update of
+/// the reduced inverse, `O(N)` while the slip zone is a few arcs; measured 0.11 s at 512 nodes, 0.49 s at
+/// 1024 and 2.2 s at 2048 in a slow hour, `lambda = 5.5`). The increments
+/// add about 40 ns per node and increment per cycle (0.06 s at 1024 nodes
+/// and 1600 increments).
 pub fn expected_run_seconds(nodes: usize, steps: usize) -> f64 {
     let n = nodes as f64;
-    0.010 * (n / 128.0).powf(2.05) + 4e-8 * n * steps as f64
+    0.0062 * (n / 128.0).powf(2.1) + 4e-8 * n * steps as f64
 }
 
 /// Warn on stderr (one line) when `--nodes` or `--steps` is above the
