@@ -1664,8 +1664,8 @@ mod tests {
     /// a time at their six edges, past the size where the structured
     /// borderings take over: the kept rates agree with a fresh
     /// factorisation all along, also after a node that sticks at an edge,
-    /// one that enters on its own (a fourth arc) and one that reverses
-    /// sent the factors after the set.
+    /// one that enters on its own far from the edges (a fourth arc) and one
+    /// that reverses inside an arc sent the factors after the set.
     #[test]
     fn structured_borderings_of_growing_arcs_match_a_fresh_factorisation() {
         let n = 512;

@@ -202,19 +202,7 @@ impl Structured {
         }
         let slot = |j: usize, side: usize| (2 * j + side) * n;
         let (v, row) = (&inv.v[..k], &inv.row[..k]);
-        let follow = |w: &mut [f64], za: f64| {
-            let xi = (za - dot(row, &w[..k])) / sigma;
-            w[..k].iter_mut().zip(v).for_each(|(w, &v)| *w -= xi * v);
-            w[k] = xi;
-        };
-        for (j, arc) in self.arcs.iter().enumerate() {
-            for side in 0..2 {
-                let g = step(arc.edge[side], side, n);
-                let za = SetInverse::entry(ops, f, a, sign, g);
-                follow(&mut self.neighbour[slot(j, side)..slot(j, side) + k1], za);
-                follow(&mut self.edge[slot(j, side)..slot(j, side) + k1], 0.0);
-            }
-        }
+        self.follow_all(ops, f, a, sign, row, v, sigma, &[]);
         self.arcs.push(Arc { edge: [a, a], sign });
         for side in 0..2 {
             let e = &mut self.edge[slot(m, side)..slot(m, side) + k1];
@@ -258,6 +246,45 @@ impl Structured {
     /// [`SetInverse::structured_column`].
     pub(super) fn column(&self) -> &[f64] {
         &self.fresh
+    }
+}
+
+/// `w` (`k + 1` entries, a kept solution `A^-1 z` in its first `k`)
+/// follows the bordering by a node of row `row`, `v = A^-1 M_Sa` and Schur
+/// complement `sigma`, `z_a` the new entry of its right-hand side:
+/// `(w - xi v, xi)` with `xi = (z_a - r . w) / sigma`.
+fn follow(w: &mut [f64], row: &[f64], v: &[f64], sigma: f64, za: f64) {
+    let k = v.len();
+    let xi = (za - dot(row, &w[..k])) / sigma;
+    w[..k].iter_mut().zip(v).for_each(|(w, &v)| *w -= xi * v);
+    w[k] = xi;
+}
+
+impl Structured {
+    /// Every kept vector but those of the slots `skip` (arc, side) follows
+    /// the bordering by node `a` with sign `sign` ([`follow`]).
+    #[allow(clippy::too_many_arguments)]
+    fn follow_all(
+        &mut self,
+        ops: &Operators,
+        friction: f64,
+        a: usize,
+        sign: f64,
+        row: &[f64],
+        v: &[f64],
+        sigma: f64,
+        skip: &[(usize, usize)],
+    ) {
+        let (n, k) = (ops.nodes(), v.len());
+        for j in 0..self.arcs.len() {
+            for side in (0..2).filter(|&side| !skip.contains(&(j, side))) {
+                let at = (2 * j + side) * n;
+                let g = step(self.arcs[j].edge[side], side, n);
+                let za = SetInverse::entry(ops, friction, a, sign, g);
+                follow(&mut self.neighbour[at..=at + k], row, v, sigma, za);
+                follow(&mut self.edge[at..=at + k], row, v, sigma, 0.0);
+            }
+        }
     }
 }
 
@@ -319,7 +346,7 @@ impl SetInverse {
         a: usize,
         sign: f64,
     ) -> Bordered {
-        let (n, k, m, f) = (self.n, self.nodes.len(), st.arcs.len(), self.friction);
+        let (n, k, f) = (self.n, self.nodes.len(), self.friction);
         let found = st.arcs.iter().enumerate().find_map(|(j, arc)| {
             (0..2)
                 .find(|&side| arc.sign == sign && step(arc.edge[side], side, n) == a)
@@ -332,130 +359,28 @@ impl SetInverse {
         if self.pos[beyond] != NONE {
             return self.merge_arcs(ops, st, i, s, a, sign);
         }
-        let o = 1 - s;
-        let entry = |row: usize, rs: f64, col: usize| SetInverse::entry(ops, f, row, rs, col);
-        // v = A^-1 M_Sa, the row r = M_aS and the pivot.
-        let mut row = std::mem::take(&mut self.row);
-        self.row_of(ops, a, sign, &mut row[..k]);
+        // v = A^-1 M_Sa is kept; the row r = M_aS and the pivot.
         let slot = |j: usize, side: usize| (2 * j + side) * n;
-        let v = &st.neighbour[slot(i, s)..slot(i, s) + k];
-        let rv = dot(&row[..k], v);
-        let d0 = entry(a, sign, a);
-        let sigma = d0 - rv;
-        if !sigma.is_finite() || sigma.abs() <= PIVOT_TOL * d0.abs().max(rv.abs()) {
-            self.row = row;
+        let Some(sigma) = self.schur(ops, a, sign, &st.neighbour[slot(i, s)..slot(i, s) + k])
+        else {
             return Bordered::Singular;
-        }
-        // The new neighbour solution, from the shifted set T: unknowns
-        // eta_j (the added nodes g_j outside the other edges) then mu_q
-        // (the far edges q of the other arcs, removed).
-        let mut removed = [0usize; MAX_ARCS];
-        for (t, j) in (0..m).filter(|&j| j != i).enumerate() {
-            removed[t] = j;
-        }
-        let removed = &removed[..m - 1];
-        let dim = 2 * m - 1;
-        let added = st.outside(o, n);
-        let added = &added[..m];
-        for (j, &g) in added.iter().enumerate() {
-            self.row_of(ops, g, st.arcs[j].sign, &mut st.rows[j * n..j * n + k]);
-        }
-        let mut rhs = [0.0; MAX_DIM];
-        let mut scale = 0.0f64;
-        {
-            let lu = &mut st.small.lu;
-            let mut put = |r: usize, c: usize, x: f64| {
-                scale = scale.max(x.abs());
-                lu[c * dim + r] = x;
-            };
-            for (j, &g) in added.iter().enumerate() {
-                let rj = &st.rows[j * n..j * n + k];
-                let sj = st.arcs[j].sign;
-                for (l, &gl) in added.iter().enumerate() {
-                    let b = &st.neighbour[slot(l, o)..slot(l, o) + k];
-                    put(j, l, entry(g, sj, gl) - dot(rj, b));
-                }
-                for (t, &q) in removed.iter().enumerate() {
-                    let e = &st.edge[slot(q, s)..slot(q, s) + k];
-                    put(j, m + t, dot(rj, e));
-                }
-                rhs[j] = entry(g, sj, a) - dot(rj, v);
-            }
-            for (t, &q) in removed.iter().enumerate() {
-                let pq = self.pos[st.arcs[q].edge[s]];
-                for l in 0..m {
-                    put(m + t, l, -st.neighbour[slot(l, o) + pq]);
-                }
-                for (t2, &q2) in removed.iter().enumerate() {
-                    put(m + t, m + t2, st.edge[slot(q2, s) + pq]);
-                }
-                rhs[m + t] = -v[pq];
-            }
-        }
-        st.small.factorise(dim);
-        let ok = (0..dim).all(|d| {
-            let p = st.small.lu[d * dim + d];
-            p.is_finite() && p.abs() > PIVOT_TOL * scale
-        });
-        if !ok {
-            self.row = row;
+        };
+        // The new neighbour solution, from the set S + a shifted back.
+        if !self.shift_column(ops, st, s, &self.v[..k], Some(a), Some(i)) {
             return Bordered::NotHere;
         }
-        st.small.solve(&mut rhs[..dim]);
-        let y = &mut st.y[..k];
-        y.copy_from_slice(v);
-        for (l, &eta) in rhs[..m].iter().enumerate() {
-            let b = &st.neighbour[slot(l, o)..slot(l, o) + k];
-            y.iter_mut().zip(b).for_each(|(y, &b)| *y -= eta * b);
-        }
-        for (t, &q) in removed.iter().enumerate() {
-            let e = &st.edge[slot(q, s)..slot(q, s) + k];
-            y.iter_mut().zip(e).for_each(|(y, &e)| *y += rhs[m + t] * e);
-        }
-        // Shifted forward: position p of S' holds T's value at node_p - d,
-        // which is eta_j where node_p is arc j's other edge.
-        let fresh = &mut st.fresh[..=k];
-        for (x, &node) in fresh[..k].iter_mut().zip(&self.nodes) {
-            let p = self.pos[step(node, o, n)];
-            *x = if p == NONE { 0.0 } else { y[p] };
-        }
-        for (j, arc) in st.arcs.iter().enumerate() {
-            fresh[self.pos[arc.edge[o]]] = rhs[j];
-        }
-        fresh[k] = y[self.pos[st.arcs[i].edge[s]]];
-        // Every other kept vector follows the bordering.
-        let mut vv = std::mem::take(&mut self.v);
-        vv[..k].copy_from_slice(v);
-        let v = &vv[..k];
-        let follow = |w: &mut [f64], za: f64| {
-            let xi = (za - dot(&row[..k], &w[..k])) / sigma;
-            w[..k].iter_mut().zip(v).for_each(|(w, &v)| *w -= xi * v);
-            w[k] = xi;
-        };
-        for j in 0..m {
-            for side in 0..2 {
-                if (j, side) == (i, s) {
-                    continue;
-                }
-                let g = step(st.arcs[j].edge[side], side, n);
-                follow(
-                    &mut st.neighbour[slot(j, side)..slot(j, side) + k + 1],
-                    entry(a, sign, g),
-                );
-                follow(&mut st.edge[slot(j, side)..slot(j, side) + k + 1], 0.0);
-            }
-        }
+        let (row, v) = (&self.row[..k], &self.v[..k]);
+        st.follow_all(ops, f, a, sign, row, v, sigma, &[(i, s)]);
         let e = &mut st.edge[slot(i, s)..slot(i, s) + k + 1];
         e[..k].iter_mut().zip(v).for_each(|(e, &v)| *e = -v / sigma);
         e[k] = 1.0 / sigma;
-        st.neighbour[slot(i, s)..slot(i, s) + k + 1].copy_from_slice(fresh);
+        st.neighbour[slot(i, s)..slot(i, s) + k + 1].copy_from_slice(&st.fresh[..=k]);
         st.arcs[i].edge[s] = a;
-        self.row = row;
-        self.v = vv;
         self.follow_border(ops, a, sign, sigma);
         self.push(a, sign);
         Bordered::Done
     }
+
     /// `A^-1 e_p` for position `p` of the base into the structured
     /// vectors' [`Structured::column`], if they are kept and give it: an
     /// edge's column is kept; a node next to one whose column is known (an
@@ -501,7 +426,7 @@ impl SetInverse {
             w[..k].copy_from_slice(col);
             true
         });
-        let ok = side.is_some_and(|s| self.shift_column(ops, st, s, &w[..k], None));
+        let ok = side.is_some_and(|s| self.shift_column(ops, st, s, &w[..k], None, None));
         st.w = w;
         ok
     }
@@ -512,6 +437,12 @@ impl SetInverse {
     /// edge on side `1 - s`), the same for `e_(q + d)` or the column of
     /// `c + d`, into [`Structured::fresh`]; false if the shift system is
     /// near singular.
+    ///
+    /// The shifted set `T = S - d` is `S` with the node just outside each
+    /// arc's edge on side `1 - s` added and each arc's edge on side `s`
+    /// removed. With `grown` `Some(i)`, `c` has just grown arc `i` on side
+    /// `s` (`c = edge + d`): the set `S + c` shifted back keeps arc `i`'s
+    /// edge, and the result has `k + 1` entries, the last for `c`.
     fn shift_column(
         &self,
         ops: &Operators,
@@ -519,6 +450,7 @@ impl SetInverse {
         s: usize,
         w: &[f64],
         col: Option<usize>,
+        grown: Option<usize>,
     ) -> bool {
         let (n, k, m, f) = (self.n, self.nodes.len(), st.arcs.len(), self.friction);
         let o = 1 - s;
@@ -526,7 +458,15 @@ impl SetInverse {
         let entry = |row: usize, rs: f64, col: usize| SetInverse::entry(ops, f, row, rs, col);
         let added = st.outside(o, n);
         let added = &added[..m];
-        let dim = 2 * m;
+        let mut removed = [0usize; MAX_ARCS];
+        let mut r = 0;
+        for j in (0..m).filter(|&j| Some(j) != grown) {
+            removed[r] = j;
+            r += 1;
+        }
+        let removed = &removed[..r];
+        // Unknowns: eta_j for the added nodes, then mu_t for the removed.
+        let dim = m + r;
         let mut rows = std::mem::take(&mut st.rows);
         for (j, &g) in added.iter().enumerate() {
             self.row_of(ops, g, st.arcs[j].sign, &mut rows[j * n..j * n + k]);
@@ -546,18 +486,18 @@ impl SetInverse {
                     let b = &st.neighbour[slot(l, o)..slot(l, o) + k];
                     put(j, l, entry(g, sj, gl) - dot(rj, b));
                 }
-                for t in 0..m {
-                    put(j, m + t, dot(rj, &st.edge[slot(t, s)..slot(t, s) + k]));
+                for (t, &q) in removed.iter().enumerate() {
+                    put(j, m + t, dot(rj, &st.edge[slot(q, s)..slot(q, s) + k]));
                 }
                 rhs[j] = col.map_or(0.0, |c| entry(g, sj, c)) - dot(rj, w);
             }
-            for t in 0..m {
-                let pt = self.pos[st.arcs[t].edge[s]];
+            for (t, &q) in removed.iter().enumerate() {
+                let pt = self.pos[st.arcs[q].edge[s]];
                 for l in 0..m {
                     put(m + t, l, -st.neighbour[slot(l, o) + pt]);
                 }
-                for t2 in 0..m {
-                    put(m + t, m + t2, st.edge[slot(t2, s) + pt]);
+                for (t2, &q2) in removed.iter().enumerate() {
+                    put(m + t, m + t2, st.edge[slot(q2, s) + pt]);
                 }
                 rhs[m + t] = -w[pt];
             }
@@ -574,20 +514,19 @@ impl SetInverse {
         st.small.solve(&mut rhs[..dim]);
         let mut y = std::mem::take(&mut st.y);
         y[..k].copy_from_slice(w);
-        for l in 0..m {
+        for (l, &eta) in rhs[..m].iter().enumerate() {
             let b = &st.neighbour[slot(l, o)..slot(l, o) + k];
-            y[..k]
-                .iter_mut()
-                .zip(b)
-                .for_each(|(y, &b)| *y -= rhs[l] * b);
-            let e = &st.edge[slot(l, s)..slot(l, s) + k];
+            y[..k].iter_mut().zip(b).for_each(|(y, &b)| *y -= eta * b);
+        }
+        for (t, &q) in removed.iter().enumerate() {
+            let e = &st.edge[slot(q, s)..slot(q, s) + k];
             y[..k]
                 .iter_mut()
                 .zip(e)
-                .for_each(|(y, &e)| *y += rhs[m + l] * e);
+                .for_each(|(y, &e)| *y += rhs[m + t] * e);
         }
-        // Shifted forward: position p of S holds T's value at node_p - d,
-        // which is eta_j where node_p is arc j's edge on side o.
+        // Shifted forward: position p holds T's value at node_p - d, which
+        // is eta_j where node_p is arc j's edge on side o.
         for (x, &nd) in st.fresh[..k].iter_mut().zip(&self.nodes) {
             let pt = self.pos[step(nd, o, n)];
             *x = if pt == NONE { 0.0 } else { y[pt] };
@@ -595,8 +534,30 @@ impl SetInverse {
         for (j, arc) in st.arcs.iter().enumerate() {
             st.fresh[self.pos[arc.edge[o]]] = rhs[j];
         }
+        let len = match grown {
+            Some(i) => {
+                st.fresh[k] = y[self.pos[st.arcs[i].edge[s]]];
+                k + 1
+            }
+            None => k,
+        };
         st.y = y;
-        st.fresh[..k].iter().all(|x| x.is_finite())
+        st.fresh[..len].iter().all(|x| x.is_finite())
+    }
+
+    /// The row `M_aS` of node `a` with sign `sign` into `self.row`, `v`
+    /// into `self.v` and the Schur complement `M_aa - r . v` of the
+    /// bordering, or `None` if it is too small.
+    fn schur(&mut self, ops: &Operators, a: usize, sign: f64, v: &[f64]) -> Option<f64> {
+        let k = self.nodes.len();
+        let mut row = std::mem::take(&mut self.row);
+        self.row_of(ops, a, sign, &mut row[..k]);
+        self.row = row;
+        self.v[..k].copy_from_slice(v);
+        let rv = dot(&self.row[..k], &self.v[..k]);
+        let d0 = SetInverse::entry(ops, self.friction, a, sign, a);
+        let sigma = d0 - rv;
+        (sigma.is_finite() && sigma.abs() > PIVOT_TOL * d0.abs().max(rv.abs())).then_some(sigma)
     }
 
     /// Node `a` enters with no neighbour in the set and starts an arc of
@@ -647,7 +608,9 @@ impl SetInverse {
         walk[1][..k].copy_from_slice(&st.neighbour[slot(j, s)..slot(j, s) + k]);
         let mut ok = true;
         for i in 1..=t {
-            if other[..m].contains(&c) || !self.shift_column(ops, st, s, &walk[1][..k], Some(c)) {
+            if other[..m].contains(&c)
+                || !self.shift_column(ops, st, s, &walk[1][..k], Some(c), None)
+            {
                 ok = false;
                 break;
             }
@@ -662,49 +625,24 @@ impl SetInverse {
             return Bordered::NotHere;
         }
         // The bordering by a, with v = s_t.
-        let mut row = std::mem::take(&mut self.row);
-        self.row_of(ops, a, sign, &mut row[..k]);
-        let mut vv = std::mem::take(&mut self.v);
-        vv[..k].copy_from_slice(&walk[1][..k]);
-        let v = &vv[..k];
-        let rv = dot(&row[..k], v);
-        let d0 = SetInverse::entry(ops, f, a, sign, a);
-        let sigma = d0 - rv;
-        if !sigma.is_finite() || sigma.abs() <= PIVOT_TOL * d0.abs().max(rv.abs()) {
-            self.row = row;
-            self.v = vv;
+        let Some(sigma) = self.schur(ops, a, sign, &walk[1][..k]) else {
             st.walk = walk;
             return Bordered::Singular;
-        }
-        let follow = |w: &mut [f64], za: f64| {
-            let xi = (za - dot(&row[..k], &w[..k])) / sigma;
-            w[..k].iter_mut().zip(v).for_each(|(w, &v)| *w -= xi * v);
-            w[k] = xi;
         };
+        let (row, v) = (&self.row[..k], &self.v[..k]);
+        st.follow_all(ops, f, a, sign, row, v, sigma, &[]);
         let entry = |col: usize| SetInverse::entry(ops, f, a, sign, col);
-        for (jj, arc) in st.arcs.iter().enumerate() {
-            for side in 0..2 {
-                let g = step(arc.edge[side], side, n);
-                follow(
-                    &mut st.neighbour[slot(jj, side)..slot(jj, side) + k + 1],
-                    entry(g),
-                );
-                follow(&mut st.edge[slot(jj, side)..slot(jj, side) + k + 1], 0.0);
-            }
-        }
-        follow(&mut walk[0][..=k], entry(step(a, o, n)));
-        follow(&mut st.fresh[..=k], entry(step(a, s, n)));
-        st.neighbour[slot(m, o)..slot(m, o) + k + 1].copy_from_slice(&walk[0][..=k]);
-        st.neighbour[slot(m, s)..slot(m, s) + k + 1].copy_from_slice(&st.fresh[..=k]);
+        follow(&mut walk[0][..=k], row, v, sigma, entry(step(a, o, n)));
+        follow(&mut st.fresh[..=k], row, v, sigma, entry(step(a, s, n)));
+        st.neighbour[slot(m, o)..=slot(m, o) + k].copy_from_slice(&walk[0][..=k]);
+        st.neighbour[slot(m, s)..=slot(m, s) + k].copy_from_slice(&st.fresh[..=k]);
         for side in 0..2 {
-            let e = &mut st.edge[slot(m, side)..slot(m, side) + k + 1];
+            let e = &mut st.edge[slot(m, side)..=slot(m, side) + k];
             e[..k].iter_mut().zip(v).for_each(|(e, &v)| *e = -v / sigma);
             e[k] = 1.0 / sigma;
         }
         st.arcs.push(Arc { edge: [a, a], sign });
         st.walk = walk;
-        self.row = row;
-        self.v = vv;
         self.follow_border(ops, a, sign, sigma);
         self.push(a, sign);
         Bordered::Done
@@ -731,38 +669,12 @@ impl SetInverse {
             return Bordered::NotHere;
         }
         let slot = |j: usize, side: usize| (2 * j + side) * n;
-        let mut row = std::mem::take(&mut self.row);
-        self.row_of(ops, a, sign, &mut row[..k]);
-        let mut vv = std::mem::take(&mut self.v);
-        vv[..k].copy_from_slice(&st.neighbour[slot(i, s)..slot(i, s) + k]);
-        let v = &vv[..k];
-        let rv = dot(&row[..k], v);
-        let d0 = SetInverse::entry(ops, f, a, sign, a);
-        let sigma = d0 - rv;
-        if !sigma.is_finite() || sigma.abs() <= PIVOT_TOL * d0.abs().max(rv.abs()) {
-            self.row = row;
-            self.v = vv;
+        let Some(sigma) = self.schur(ops, a, sign, &st.neighbour[slot(i, s)..slot(i, s) + k])
+        else {
             return Bordered::Singular;
-        }
-        let follow = |w: &mut [f64], za: f64| {
-            let xi = (za - dot(&row[..k], &w[..k])) / sigma;
-            w[..k].iter_mut().zip(v).for_each(|(w, &v)| *w -= xi * v);
-            w[k] = xi;
         };
-        for (jj, arc) in st.arcs.iter().enumerate() {
-            for side in 0..2 {
-                if (jj, side) == (i, s) || (jj, side) == (j, o) {
-                    continue;
-                }
-                let g = step(arc.edge[side], side, n);
-                let za = SetInverse::entry(ops, f, a, sign, g);
-                follow(
-                    &mut st.neighbour[slot(jj, side)..slot(jj, side) + k + 1],
-                    za,
-                );
-                follow(&mut st.edge[slot(jj, side)..slot(jj, side) + k + 1], 0.0);
-            }
-        }
+        let (row, v) = (&self.row[..k], &self.v[..k]);
+        st.follow_all(ops, f, a, sign, row, v, sigma, &[(i, s), (j, o)]);
         // Arc i takes arc j's far edge, and arc j goes.
         st.arcs[i].edge[s] = st.arcs[j].edge[s];
         st.neighbour
@@ -773,8 +685,6 @@ impl SetInverse {
             .copy_within(slot(j + 1, 0)..slot(m, 0), slot(j, 0));
         st.edge.copy_within(slot(j + 1, 0)..slot(m, 0), slot(j, 0));
         st.arcs.remove(j);
-        self.row = row;
-        self.v = vv;
         self.follow_border(ops, a, sign, sigma);
         self.push(a, sign);
         Bordered::Done
