@@ -1101,13 +1101,9 @@ impl SetInverse {
         // Kept if the node starts an arc of its own.
         let kept = self.structured.take();
         let k = self.nodes.len();
-        self.push(a, sign);
-        let Some(sigma) = self.extend_factors(ops, k) else {
+        let Some(sigma) = self.extend_factors(ops, k, a, sign) else {
             return false;
         };
-        // `push` came first for the factors; the kept vectors follow the
-        // bordering of the old set.
-        self.pop();
         self.follow_border(ops, a, sign, sigma);
         self.push(a, sign);
         if let Some(st) = kept {
@@ -1129,22 +1125,13 @@ impl SetInverse {
         self.roles.push(Role::Active);
     }
 
-    /// Undo [`Self::push`].
-    fn pop(&mut self) {
-        if let Some(a) = self.nodes.pop() {
-            self.pos[a] = NONE;
-            self.signs.pop();
-            self.roles.pop();
-        }
-    }
-
-    /// Border the dense factors of positions `0..p` with position `p`
-    /// (its column and row over them): `l`, `u` and `v = A^-1 c` from one
-    /// pass ([`border_pass`]), `v` and the row left in `self.v` and
-    /// `self.row`; the Schur complement, or `None` if it is too small.
-    fn extend_factors(&mut self, ops: &Operators, p: usize) -> Option<f64> {
+    /// Border the dense factors of positions `0..p` with node `a` of sign
+    /// `sign` as position `p` (its column and row over them): `l`, `u` and
+    /// `v = A^-1 c` from one pass ([`border_pass`]), `v` and the row left
+    /// in `self.v` and `self.row`; the Schur complement, or `None` if it is
+    /// too small.
+    fn extend_factors(&mut self, ops: &Operators, p: usize, a: usize, sign: f64) -> Option<f64> {
         debug_assert_eq!(self.perm.len(), p, "factors up to p");
-        let (a, sign) = (self.nodes[p], self.signs[p]);
         let (nodes, signs) = (&self.nodes[..p], &self.signs[..p]);
         let f = self.friction;
         let hcol = ops.hilbert_col(a);
@@ -1203,7 +1190,10 @@ impl SetInverse {
         if self.ld < k {
             self.relayout(stride(k, self.n));
         }
-        (self.perm.len()..k).all(|p| self.extend_factors(ops, p).is_some())
+        (self.perm.len()..k).all(|p| {
+            let (a, sign) = (self.nodes[p], self.signs[p]);
+            self.extend_factors(ops, p, a, sign).is_some()
+        })
     }
 
     /// The kept solutions and correction columns follow the bordering of
