@@ -208,6 +208,25 @@ fn dissipation_converges_with_the_grid() {
     }
 }
 
+/// At 512 and 1024 nodes the slip zone holds hundreds of nodes, bordered
+/// by the arcs' structure (`docs/model.md` section 3.3) rather than the
+/// dense factors: W still converges with the grid, each doubling of `N`
+/// moving it less than the one before.
+#[test]
+fn dissipation_converges_with_the_grid_up_to_1024_nodes() {
+    let w: Vec<f64> = [256, 512, 1024]
+        .iter()
+        .map(|&n| {
+            let r = run(5.5, 0.0, &Initial::Direct, n, 400);
+            assert_eq!(r.state, SteadyState::CyclicSlip, "N = {n}");
+            r.dissipation
+        })
+        .collect();
+    let (first, second) = ((w[1] - w[0]).abs(), (w[2] - w[1]).abs());
+    assert!(second < first, "W {w:?}: no convergence");
+    assert!(second / w[2] < 1e-3, "W {w:?}");
+}
+
 #[test]
 fn fig8_sequence_at_phase_half_pi() {
     // Fig. 8: shakedown below 5, monotonic ratchetting above, non-monotonic
