@@ -103,20 +103,74 @@ wide! {
     }
 }
 
-wide! {
-    /// `slip += t r`, and the positive and negative parts of `t r` into
-    /// `forward` and `backward`, at every node: the slip of a sub-segment
-    /// from its rates `r` (0 off the slip set, where this adds exactly
-    /// nothing). Branch-free and in vectors, it costs less than a loop over
-    /// the set's indices unless the set is a small part of the circle.
-    fn add_slip<'a>(t: f64, r: &'a [f64], slip: &'a mut [f64], forward: &'a mut [f64], backward: &'a mut [f64]) -> () {
-        let nodes = r.iter().zip(slip.iter_mut()).zip(forward.iter_mut()).zip(backward.iter_mut());
-        for (((&r, g), fw), bw) in nodes {
-            let dg = t * r;
-            *g += dg;
-            *fw += dg.max(0.0);
-            *bw += (-dg).max(0.0);
+/// The fastest any node's end margin ([`end_margins_kernel`]) can fall
+/// per unit of load along an axis whose total pressure and shear per unit
+/// are `tp` and `tq`: the largest `|tp|` (the pressure of every node) and
+/// `f |tp| + |tq|` (the lower slack `f p - |q|` of a stick node, `off` 0;
+/// a slip node's, `off` infinite, is not watched). Infinite if a watched
+/// rate is not finite, so that no bound is taken from it. Taken once per slip set that
+/// outlives a segment, so it is written in vectors like the passes of an
+/// increment.
+pub(super) fn reach(tp: &[f64], tq: &[f64], off: &[f64], f: f64) -> f64 {
+    struct Op<'a> {
+        tp: &'a [f64],
+        tq: &'a [f64],
+        off: &'a [f64],
+        f: f64,
+    }
+    impl pulp::WithSimd for Op<'_> {
+        type Output = f64;
+        #[inline(always)]
+        fn with_simd<S: pulp::Simd>(self, simd: S) -> f64 {
+            reach_kernel(simd, self.tp, self.tq, self.off, self.f)
         }
+    }
+    pulp::Arch::new().dispatch(Op { tp, tq, off, f })
+}
+
+#[inline(always)]
+fn reach_kernel<S: pulp::Simd>(simd: S, tp: &[f64], tq: &[f64], off: &[f64], f: f64) -> f64 {
+    let n = tp.len();
+    let (tq, off) = (&tq[..n], &off[..n]);
+    let node = |p: f64, q: f64, off: f64| {
+        let slack = if off < 1.0 {
+            f * p.abs() + q.abs()
+        } else {
+            0.0
+        };
+        let v = if p.abs() < slack { slack } else { p.abs() };
+        (v, p.abs() + slack)
+    };
+    let (vp, _) = S::as_simd_f64s(tp);
+    let (vq, _) = S::as_simd_f64s(tq);
+    let (voff, _) = S::as_simd_f64s(off);
+    let (zero, one, sf) = (
+        simd.splat_f64s(0.0),
+        simd.splat_f64s(1.0),
+        simd.splat_f64s(f),
+    );
+    let mut big = zero;
+    // A NaN passes every comparison by: the sum keeps it.
+    let mut sum = zero;
+    for j in 0..vp.len() {
+        let ap = simd.abs_f64s(vp[j]);
+        let slack = simd.add_f64s(simd.mul_f64s(sf, ap), simd.abs_f64s(vq[j]));
+        let slack = simd.select_f64s(simd.less_than_f64s(voff[j], one), slack, zero);
+        let v = simd.select_f64s(simd.less_than_f64s(ap, slack), slack, ap);
+        big = simd.select_f64s(simd.less_than_f64s(big, v), v, big);
+        sum = simd.add_f64s(sum, simd.add_f64s(ap, slack));
+    }
+    let mut reach = simd.reduce_max_f64s(big);
+    let mut total = simd.reduce_sum_f64s(sum);
+    for j in vp.len() * S::F64_LANES..n {
+        let (v, both) = node(tp[j], tq[j], off[j]);
+        reach = reach.max(v);
+        total += both;
+    }
+    if total.is_finite() {
+        reach
+    } else {
+        f64::INFINITY
     }
 }
 
@@ -157,19 +211,41 @@ pub(super) struct Slide<'a> {
     pub(super) responses: [&'a [f64]; 4],
     /// `[sin, cos]` at the nodes.
     pub(super) trig: [&'a [f64]; 2],
-    /// Slip rates along the segment (0 off the slip set).
-    pub(super) rates: &'a [f64],
+    /// Slip rates per unit `u1` and `u2` (0 off the slip set), or, with
+    /// `along` `None`, the rates along the segment and an empty slice.
+    pub(super) rates: [&'a [f64]; 2],
+    /// The segment's direction `(a1, a2)` in `u1`, `u2`: the rate of a
+    /// node along it is `a1 gx + a2 gy`, the bits of [`combine`] (so the
+    /// move need not wait for that pass); `None` if `rates[0]` holds them.
+    pub(super) along: Option<[f64; 2]>,
+}
+
+/// The slip of a move and its positive and negative parts, moved with it
+/// in the same pass ([`slide`]): `slip += dg`, and `forward` and
+/// `backward` added to or, if `fresh`, set to the positive and negative
+/// parts of `dg` (they held an earlier increment's: setting them spares a
+/// pass that clears them first). Off the slip set the rate is 0 and this
+/// adds exactly nothing, so the pass gives the bits of a loop over the
+/// set's nodes.
+pub(super) struct SlipOut<'a> {
+    pub(super) slip: &'a mut [f64],
+    pub(super) forward: &'a mut [f64],
+    pub(super) backward: &'a mut [f64],
+    pub(super) fresh: bool,
 }
 
 /// Move the residual tractions `rp`, `rq` and the tractions `p`, `q`
 /// (`v = [rp, rq, p, q]`) by `s`, and return
 /// `sum |dg| (p before + p after)` in the four lanes of node `j mod 4`
 /// (nodes past the last whole four in lane 0). Off the slip set the rate
-/// is 0, so those nodes add exactly nothing.
-pub(super) fn slide(s: &Slide, v: [&mut [f64]; 4]) -> [f64; 4] {
+/// is 0, so those nodes add exactly nothing. With `slip`, the slip moves
+/// in the same pass (a second pass over the rates cost a sixth of an
+/// unchanged-set increment).
+pub(super) fn slide(s: &Slide, v: [&mut [f64]; 4], slip: Option<SlipOut>) -> [f64; 4] {
     struct Op<'a, 'b> {
         s: &'b Slide<'a>,
         v: [&'b mut [f64]; 4],
+        slip: Option<SlipOut<'b>>,
     }
     impl pulp::WithSimd for Op<'_, '_> {
         type Output = [f64; 4];
@@ -178,20 +254,63 @@ pub(super) fn slide(s: &Slide, v: [&mut [f64]; 4]) -> [f64; 4] {
             // The sum is kept in four lanes whatever the vector width, so
             // that it is the same on every processor: in vectors of four
             // where they exist, else in groups of four.
+            let (s, v) = (self.s, self.v);
+            let (slip, fresh) = match self.slip {
+                Some(o) => ([o.slip, o.forward, o.backward], Some(o.fresh)),
+                None => ([&mut [][..], &mut [], &mut []], None),
+            };
+            let combined = s.along.is_none();
             if S::F64_LANES == 4 {
-                slide_wide(simd, self.s, self.v)
+                match (combined, fresh) {
+                    (true, None) => slide_wide::<S, true, false, false>(simd, s, v, slip),
+                    (true, Some(true)) => slide_wide::<S, true, true, true>(simd, s, v, slip),
+                    (true, Some(false)) => slide_wide::<S, true, true, false>(simd, s, v, slip),
+                    (false, None) => slide_wide::<S, false, false, false>(simd, s, v, slip),
+                    (false, Some(true)) => slide_wide::<S, false, true, true>(simd, s, v, slip),
+                    (false, Some(false)) => slide_wide::<S, false, true, false>(simd, s, v, slip),
+                }
             } else {
-                slide_kernel(self.s, self.v)
+                match (combined, fresh) {
+                    (true, None) => slide_kernel::<true, false, false>(s, v, slip),
+                    (true, Some(true)) => slide_kernel::<true, true, true>(s, v, slip),
+                    (true, Some(false)) => slide_kernel::<true, true, false>(s, v, slip),
+                    (false, None) => slide_kernel::<false, false, false>(s, v, slip),
+                    (false, Some(true)) => slide_kernel::<false, true, true>(s, v, slip),
+                    (false, Some(false)) => slide_kernel::<false, true, false>(s, v, slip),
+                }
             }
         }
     }
-    pulp::Arch::new().dispatch(Op { s, v })
+    pulp::Arch::new().dispatch(Op { s, v, slip })
+}
+
+/// The slip `dg` of one node into its slip and its positive and negative
+/// parts ([`SlipOut`]), or with `FRESH` the parts set rather than added
+/// to.
+#[inline(always)]
+fn slip_node<const FRESH: bool>(dg: f64, g: &mut f64, fw: &mut f64, bw: &mut f64) {
+    *g += dg;
+    let (pos, neg) = (
+        if 0.0 < dg { dg } else { 0.0 },
+        if dg < 0.0 { 0.0 - dg } else { 0.0 },
+    );
+    if FRESH {
+        (*fw, *bw) = (pos, neg);
+    } else {
+        *fw += pos;
+        *bw += neg;
+    }
 }
 
 /// [`slide_kernel`] in vectors of four lanes (`S::F64_LANES == 4`): the
 /// same operations in the same order at each node.
 #[inline(always)]
-fn slide_wide<S: pulp::Simd>(simd: S, s: &Slide, [rp, rq, p, q]: [&mut [f64]; 4]) -> [f64; 4] {
+fn slide_wide<S: pulp::Simd, const COMBINED: bool, const SLIP: bool, const FRESH: bool>(
+    simd: S,
+    s: &Slide,
+    [rp, rq, p, q]: [&mut [f64]; 4],
+    [g, fw, bw]: [&mut [f64]; 3],
+) -> [f64; 4] {
     let n = p.len();
     let el = s.elastic;
     let [hpx, hpy, hqx, hqy] = s.responses;
@@ -202,14 +321,23 @@ fn slide_wide<S: pulp::Simd>(simd: S, s: &Slide, [rp, rq, p, q]: [&mut [f64]; 4]
     let (vhqy, _) = S::as_simd_f64s(&hqy[..n]);
     let (vsin, _) = S::as_simd_f64s(&sin[..n]);
     let (vcos, _) = S::as_simd_f64s(&cos[..n]);
-    let (vrg, _) = S::as_simd_f64s(&s.rates[..n]);
+    // With `COMBINED`, `rates[0]` holds the rates along the segment.
+    let (vgx, _) = S::as_simd_f64s(&s.rates[0][..n]);
+    let (vgy, _) = S::as_simd_f64s(&s.rates[1][..if COMBINED { 0 } else { n }]);
+    let [a1, a2] = s.along.unwrap_or([1.0, 0.0]);
     let (vrp, _) = S::as_mut_simd_f64s(&mut rp[..n]);
     let (vrq, _) = S::as_mut_simd_f64s(&mut rq[..n]);
     let (vp, _) = S::as_mut_simd_f64s(&mut p[..n]);
     let (vq, _) = S::as_mut_simd_f64s(&mut q[..n]);
+    let m = if SLIP { n } else { 0 };
+    let (vg, _) = S::as_mut_simd_f64s(&mut g[..m]);
+    let (vfw, _) = S::as_mut_simd_f64s(&mut fw[..m]);
+    let (vbw, _) = S::as_mut_simd_f64s(&mut bw[..m]);
     let splat = |x: f64| simd.splat_f64s(x);
     let (tx, ty, t) = (splat(s.tx), splat(s.ty), splat(s.t));
+    let (va1, va2) = (splat(a1), splat(a2));
     let (one, pr, qr, mqt) = (splat(1.0), splat(el.pr), splat(el.qr), splat(-el.qt));
+    let zero = splat(0.0);
     let mut acc = splat(0.0);
     let whole = vp.len();
     for j in 0..whole {
@@ -221,8 +349,26 @@ fn slide_wide<S: pulp::Simd>(simd: S, s: &Slide, [rp, rq, p, q]: [&mut [f64]; 4]
         vrq[j] = r_q;
         vq[j] = simd.add_f64s(simd.sub_f64s(mqt, simd.mul_f64s(qr, vcos[j])), r_q);
         let p_new = simd.add_f64s(simd.sub_f64s(one, simd.mul_f64s(pr, vsin[j])), r_p);
-        let rate = simd.abs_f64s(simd.mul_f64s(t, vrg[j]));
-        let dissipated = simd.mul_f64s(rate, simd.add_f64s(vp[j], p_new));
+        let rate = if COMBINED {
+            vgx[j]
+        } else {
+            simd.add_f64s(simd.mul_f64s(va1, vgx[j]), simd.mul_f64s(va2, vgy[j]))
+        };
+        let dg = simd.mul_f64s(t, rate);
+        if SLIP {
+            vg[j] = simd.add_f64s(vg[j], dg);
+            let pos = simd.select_f64s(simd.less_than_f64s(zero, dg), dg, zero);
+            let neg =
+                simd.select_f64s(simd.less_than_f64s(dg, zero), simd.sub_f64s(zero, dg), zero);
+            if FRESH {
+                vfw[j] = pos;
+                vbw[j] = neg;
+            } else {
+                vfw[j] = simd.add_f64s(vfw[j], pos);
+                vbw[j] = simd.add_f64s(vbw[j], neg);
+            }
+        }
+        let dissipated = simd.mul_f64s(simd.abs_f64s(dg), simd.add_f64s(vp[j], p_new));
         vp[j] = p_new;
         acc = simd.add_f64s(acc, dissipated);
     }
@@ -235,54 +381,53 @@ fn slide_wide<S: pulp::Simd>(simd: S, s: &Slide, [rp, rq, p, q]: [&mut [f64]; 4]
         rq[j] += s.tx * hqx[j] + s.ty * hqy[j];
         q[j] = -el.qt - el.qr * c + rq[j];
         let p_new = 1.0 - el.pr * sn + rp[j];
-        lanes[0] += (s.t * s.rates[j]).abs() * (p[j] + p_new);
+        let rate = if COMBINED {
+            s.rates[0][j]
+        } else {
+            a1 * s.rates[0][j] + a2 * s.rates[1][j]
+        };
+        let dg = s.t * rate;
+        if SLIP {
+            slip_node::<FRESH>(dg, &mut g[j], &mut fw[j], &mut bw[j]);
+        }
+        lanes[0] += dg.abs() * (p[j] + p_new);
         p[j] = p_new;
     }
     lanes
 }
 
 #[inline(always)]
-fn slide_kernel(s: &Slide, [rp, rq, p, q]: [&mut [f64]; 4]) -> [f64; 4] {
+fn slide_kernel<const COMBINED: bool, const SLIP: bool, const FRESH: bool>(
+    s: &Slide,
+    [rp, rq, p, q]: [&mut [f64]; 4],
+    [g, fw, bw]: [&mut [f64]; 3],
+) -> [f64; 4] {
     let (t, tx, ty, el) = (s.t, s.tx, s.ty, s.elastic);
     let [hpx, hpy, hqx, hqy] = s.responses;
     let [sin, cos] = s.trig;
     let n = p.len();
-    let node = |rp: &mut f64, rq: &mut f64, p: &mut f64, q: &mut f64, v: [f64; 7]| {
-        let [hpx, hpy, hqx, hqy, c, sn, rg] = v;
-        *rp += tx * hpx + ty * hpy;
-        *rq += tx * hqx + ty * hqy;
-        *q = -el.qt - el.qr * c + *rq;
-        let p_new = 1.0 - el.pr * sn + *rp;
-        let dissipated = (t * rg).abs() * (*p + p_new);
-        *p = p_new;
-        dissipated
+    let node = |j: usize, rp: &mut [f64], rq: &mut [f64], p: &mut [f64], q: &mut [f64]| {
+        rp[j] += tx * hpx[j] + ty * hpy[j];
+        rq[j] += tx * hqx[j] + ty * hqy[j];
+        q[j] = -el.qt - el.qr * cos[j] + rq[j];
+        let p_new = 1.0 - el.pr * sin[j] + rp[j];
+        let rate = match s.along {
+            Some([a1, a2]) if !COMBINED => a1 * s.rates[0][j] + a2 * s.rates[1][j],
+            _ => s.rates[0][j],
+        };
+        let dg = t * rate;
+        let dissipated = dg.abs() * (p[j] + p_new);
+        p[j] = p_new;
+        (dg, dissipated)
     };
     let mut acc = [0.0f64; 4];
     let whole = n - n % 4;
-    let inputs = four(hpx)
-        .iter()
-        .zip(four(hpy))
-        .zip(four(hqx))
-        .zip(four(hqy))
-        .zip(four(cos))
-        .zip(four(sin))
-        .zip(four(s.rates));
-    let outputs = rp
-        .as_chunks_mut::<4>()
-        .0
-        .iter_mut()
-        .zip(rq.as_chunks_mut::<4>().0)
-        .zip(p.as_chunks_mut::<4>().0)
-        .zip(q.as_chunks_mut::<4>().0);
-    for ((((rp, rq), p), q), ((((((hpx, hpy), hqx), hqy), c), sn), rg)) in outputs.zip(inputs) {
-        for i in 0..4 {
-            let v = [hpx[i], hpy[i], hqx[i], hqy[i], c[i], sn[i], rg[i]];
-            acc[i] += node(&mut rp[i], &mut rq[i], &mut p[i], &mut q[i], v);
+    for j in 0..n {
+        let (dg, dissipated) = node(j, rp, rq, p, q);
+        if SLIP {
+            slip_node::<FRESH>(dg, &mut g[j], &mut fw[j], &mut bw[j]);
         }
-    }
-    for j in whole..n {
-        let v = [hpx[j], hpy[j], hqx[j], hqy[j], cos[j], sin[j], s.rates[j]];
-        acc[0] += node(&mut rp[j], &mut rq[j], &mut p[j], &mut q[j], v);
+        acc[if j < whole { j % 4 } else { 0 }] += dissipated;
     }
     acc
 }
@@ -658,46 +803,64 @@ mod tests {
         assert_eq!(lowest, min);
     }
 
-    /// The slip of a sub-segment by one pass over every node is, to the
-    /// bit, that of a loop over the slip set's nodes (the rates are 0 off
-    /// the set, where the pass must change nothing), tail included.
+    /// The reach is the largest fall rate of a watched margin: `|tp|` at
+    /// every node, `f |tp| + |tq|` at the stick nodes only (a slip node's
+    /// large shear rate does not count), tail included; infinite if a
+    /// watched rate is not finite.
     #[test]
-    fn add_slip_over_every_node_is_the_loop_over_the_set() {
+    fn reach_is_the_fastest_fall_of_a_watched_margin() {
         let n = 131;
-        let mut rates = values(n, 50);
-        let set: Vec<usize> = (0..n).filter(|j| j % 3 != 0).collect();
-        for j in (0..n).step_by(3) {
-            rates[j] = if j % 2 == 0 { 0.0 } else { -0.0 };
-        }
-        let start = [values(n, 51), values(n, 52), values(n, 53)];
-        let t = 0.37;
-        let [mut slip, mut fw, mut bw] = start.clone();
-        add_slip(t, &rates, &mut slip, &mut fw, &mut bw);
-        let [mut slip_set, mut fw_set, mut bw_set] = start.clone();
-        for &j in &set {
-            let dg = t * rates[j];
-            slip_set[j] += dg;
-            fw_set[j] += dg.max(0.0);
-            bw_set[j] += (-dg).max(0.0);
-        }
-        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-        assert_eq!(bits(&slip), bits(&slip_set));
-        assert_eq!(bits(&fw), bits(&fw_set));
-        assert_eq!(bits(&bw), bits(&bw_set));
-        assert!(set.iter().any(|&j| slip[j] != start[0][j]));
+        let (tp, mut tq) = (values(n, 60), values(n, 61));
+        let off: Vec<f64> = (0..n)
+            .map(|j| if j % 3 == 0 { f64::INFINITY } else { 0.0 })
+            .collect();
+        let f = 0.3;
+        let direct = |tp: &[f64], tq: &[f64]| {
+            (0..n)
+                .map(|j| {
+                    let slack = if j % 3 == 0 {
+                        0.0
+                    } else {
+                        f * tp[j].abs() + tq[j].abs()
+                    };
+                    tp[j].abs().max(slack)
+                })
+                .fold(0.0f64, f64::max)
+        };
+        assert_eq!(reach(&tp, &tq, &off, f), direct(&tp, &tq));
+        // A slip node's shear rate, however large, is not watched; a stick
+        // node's is, in the tail too.
+        tq[3] = 1e6;
+        assert_eq!(reach(&tp, &tq, &off, f), direct(&tp, &tq));
+        assert!(reach(&tp, &tq, &off, f) < 1e6);
+        tq[130] = 1e6;
+        assert_eq!(reach(&tp, &tq, &off, f), 1e6 + f * tp[130].abs());
+        tq[7] = f64::NAN;
+        assert_eq!(reach(&tp, &tq, &off, f), f64::INFINITY);
     }
 
     /// A move along the slip set gives the same bits in vectors of four
-    /// (the processor's and an emulated one) as in groups of four.
+    /// (the processor's and an emulated one) as in groups of four, with
+    /// and without the slip moved in the same pass, and the slip it moves
+    /// is, to the bit, that of a loop over the slip set's nodes (the rates
+    /// are 0 off the set, where the pass must change nothing), tail
+    /// included: added to `forward` and `backward`, or set there when
+    /// they are `fresh`.
     #[test]
     fn slide_does_not_depend_on_the_instruction_set() {
-        let n = 130;
+        let n = 131;
         let inputs: Vec<Vec<f64>> = (10..17).map(|i| values(n, i)).collect();
-        let mut rates = values(n, 20);
+        let (mut gx, mut gy) = (values(n, 20), values(n, 21));
+        let set: Vec<usize> = (0..n).filter(|j| j % 3 != 0).collect();
         for j in (0..n).step_by(3) {
-            rates[j] = 0.0;
+            gx[j] = if j % 2 == 0 { 0.0 } else { -0.0 };
+            gy[j] = 0.0;
         }
-        let s = Slide {
+        let along = [0.9, -0.3];
+        let rates: Vec<f64> = (0..n)
+            .map(|j| along[0] * gx[j] + along[1] * gy[j])
+            .collect();
+        let slide_along = |combined: bool| Slide {
             t: 0.37,
             tx: 0.8,
             ty: -0.45,
@@ -708,36 +871,104 @@ mod tests {
             },
             responses: std::array::from_fn(|i| inputs[i].as_slice()),
             trig: [&inputs[4], &inputs[5]],
-            rates: &rates,
+            rates: if combined { [&rates, &[]] } else { [&gx, &gy] },
+            along: (!combined).then_some(along),
         };
+        let s = slide_along(false);
         let start: Vec<Vec<f64>> = (30..34).map(|i| values(n, i)).collect();
-        let mut results = Vec::new();
-        for way in 0..3 {
-            let mut v = start.clone();
-            let [a, b, c, d] = &mut v[..] else {
-                unreachable!()
-            };
-            let parts = [&mut a[..], &mut b[..], &mut c[..], &mut d[..]];
-            let lanes = match way {
-                0 => slide(&s, parts),
-                1 => slide_kernel(&s, parts),
-                _ => slide_wide(Scalar256b, &s, parts),
-            };
-            results.push((lanes, v));
-        }
+        let slip_start = [values(n, 51), values(n, 52), values(n, 53)];
         let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-        for (lanes, v) in &results[1..] {
-            assert_eq!(bits(lanes), bits(&results[0].0));
-            for (x, y) in v.iter().zip(&results[0].1) {
-                assert_eq!(bits(x), bits(y));
+        for slip in [None, Some(false), Some(true)] {
+            let mut results = Vec::new();
+            // The rates along the segment given, or made in the pass from
+            // those per unit `u1` and `u2`.
+            for (combined, way) in [false, true]
+                .into_iter()
+                .flat_map(|c| (0..3).map(move |w| (c, w)))
+            {
+                let s = slide_along(combined);
+                let mut v = start.clone();
+                let [a, b, c, d] = &mut v[..] else {
+                    unreachable!()
+                };
+                let parts = [&mut a[..], &mut b[..], &mut c[..], &mut d[..]];
+                let mut moved = slip_start.clone();
+                let [g, fw, bw] = &mut moved;
+                let none: [&mut [f64]; 3] = [&mut [], &mut [], &mut []];
+                macro_rules! by_way {
+                    ($c:literal) => {
+                        match (way, slip) {
+                            (0, _) => {
+                                let out = slip.map(|fresh| SlipOut {
+                                    slip: g,
+                                    forward: fw,
+                                    backward: bw,
+                                    fresh,
+                                });
+                                slide(&s, parts, out)
+                            }
+                            (1, None) => slide_kernel::<$c, false, false>(&s, parts, none),
+                            (1, Some(false)) => {
+                                slide_kernel::<$c, true, false>(&s, parts, [g, fw, bw])
+                            }
+                            (1, Some(true)) => {
+                                slide_kernel::<$c, true, true>(&s, parts, [g, fw, bw])
+                            }
+                            (_, None) => {
+                                slide_wide::<_, $c, false, false>(Scalar256b, &s, parts, none)
+                            }
+                            (_, Some(false)) => {
+                                slide_wide::<_, $c, true, false>(Scalar256b, &s, parts, [g, fw, bw])
+                            }
+                            (_, Some(true)) => {
+                                slide_wide::<_, $c, true, true>(Scalar256b, &s, parts, [g, fw, bw])
+                            }
+                        }
+                    };
+                }
+                let lanes = if combined {
+                    by_way!(true)
+                } else {
+                    by_way!(false)
+                };
+                results.push((lanes, v, moved));
             }
+            for (lanes, v, moved) in &results[1..] {
+                assert_eq!(bits(lanes), bits(&results[0].0));
+                for (x, y) in v.iter().zip(&results[0].1) {
+                    assert_eq!(bits(x), bits(y));
+                }
+                for (x, y) in moved.iter().zip(&results[0].2) {
+                    assert_eq!(bits(x), bits(y));
+                }
+            }
+            // The slip moved is the loop over the set's.
+            let [mut g, mut fw, mut bw] = slip_start.clone();
+            if slip == Some(true) {
+                fw.fill(0.0);
+                bw.fill(0.0);
+            }
+            if slip.is_some() {
+                for &j in &set {
+                    let dg = s.t * rates[j];
+                    g[j] += dg;
+                    fw[j] += dg.max(0.0);
+                    bw[j] += (-dg).max(0.0);
+                }
+            }
+            let moved = &results[0].2;
+            assert_eq!(bits(&moved[0]), bits(&g));
+            assert_eq!(bits(&moved[1]), bits(&fw));
+            assert_eq!(bits(&moved[2]), bits(&bw));
+            let changed = set.iter().any(|&j| moved[0][j] != slip_start[0][j]);
+            assert_eq!(slip.is_some(), changed);
+            // And the sum is the dissipation it stands for.
+            let (lanes, v, _) = &results[0];
+            let direct: f64 = (0..n)
+                .map(|j| (s.t * rates[j]).abs() * (start[2][j] + v[2][j]))
+                .sum();
+            let total: f64 = lanes.iter().sum();
+            assert!((total - direct).abs() <= 1e-12 * direct.abs().max(1.0));
         }
-        // And the sum is the dissipation it stands for.
-        let (lanes, v) = &results[0];
-        let direct: f64 = (0..n)
-            .map(|j| (s.t * rates[j]).abs() * (start[2][j] + v[2][j]))
-            .sum();
-        let total: f64 = lanes.iter().sum();
-        assert!((total - direct).abs() <= 1e-12 * direct.abs().max(1.0));
     }
 }

@@ -387,6 +387,11 @@ pub struct Contact {
     /// (to exercise the stepper's way round that).
     #[cfg(test)]
     pub(crate) refuse_runs: bool,
+    /// Test only: the increment makes every pass its bounds would spare
+    /// (the clearance of the end margins, the rates' direction), so that a
+    /// test can compare the two.
+    #[cfg(test)]
+    pub(crate) unbounded: bool,
 }
 
 impl std::fmt::Debug for Contact {
@@ -421,6 +426,8 @@ impl Contact {
             segment_increments: 1,
             #[cfg(test)]
             refuse_runs: false,
+            #[cfg(test)]
+            unbounded: false,
         };
         c.refresh();
         c
@@ -823,6 +830,7 @@ impl Contact {
 
     /// Commit a solved increment.
     pub fn commit(&mut self, trial: Trial) {
+        self.forget_clearance();
         if trial.slip_increment.iter().any(|&d| d != 0.0) {
             for (g, d) in self.slip.iter_mut().zip(&trial.slip_increment) {
                 *g += d;
