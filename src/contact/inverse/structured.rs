@@ -46,7 +46,7 @@
 //! set ([`SetInverse::catch_up`]), as the borderings would have; a rebuild
 //! (the slip zone collapsing at a reversal of the load) drops them.
 
-use super::{dot, Lanes, Narrow, SetInverse, Wide, NONE, PIVOT_TOL};
+use super::{axpys, dot, dots, Kernel, SetInverse, NONE, PIVOT_TOL};
 use crate::contact::operators::Operators;
 use crate::contact::reduced::DenseLu;
 
@@ -67,95 +67,21 @@ const MAX_DIM: usize = 2 * MAX_ARCS;
 /// (`N = 128`) keep the dense borderings' numbers.
 pub(super) const MIN_NODES: usize = 192;
 
-/// The node next to `node` on side `side` (0: before it, 1: after it).
+/// The node next to `node` (`< n`) on side `side` (0: before it, 1:
+/// after it). Compared, not taken modulo `n`: a division a node was a
+/// third of the shift's gather ([`SetInverse::shift_column`]).
 #[inline]
 fn step(node: usize, side: usize, n: usize) -> usize {
     if side == 1 {
-        (node + 1) % n
-    } else {
-        (node + n - 1) % n
-    }
-}
-
-/// The `O(k)` products of a structured bordering in the widest lanes
-/// ([`Lanes`]: fused multiply-adds in a fixed order, the same numbers on
-/// every instruction set), four vectors a pass where they share the other
-/// operand. With the plain loops of [`dot`] (two lanes, a multiply and an
-/// add) the dot products and updates of the borderings were a sixth of the
-/// `N = 1024` run's instructions.
-enum Kernel<'a> {
-    /// `[a_0 . b, ..., a_3 . b]`.
-    Dots { a: [&'a [f64]; 4], b: &'a [f64] },
-    /// `y -= a_0 x_0 + ... + a_3 x_3`.
-    Axpy4 {
-        y: &'a mut [f64],
-        x: [&'a [f64]; 4],
-        a: [f64; 4],
-    },
-    /// `y -= a x`.
-    Axpy {
-        y: &'a mut [f64],
-        x: &'a [f64],
-        a: f64,
-    },
-}
-
-impl pulp::WithSimd for Kernel<'_> {
-    type Output = [f64; 4];
-    #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, simd: S) -> [f64; 4] {
-        if S::F64_LANES == 4 {
-            self.run(Wide(simd))
+        if node + 1 == n {
+            0
         } else {
-            self.run(Narrow)
+            node + 1
         }
-    }
-}
-
-impl Kernel<'_> {
-    #[inline(always)]
-    fn run<V: Lanes>(self, lanes: V) -> [f64; 4] {
-        match self {
-            Kernel::Dots { a, b } => lanes.dot4(a, b),
-            Kernel::Axpy4 { y, x, a } => {
-                lanes.axpy4(y, x, a, false);
-                [0.0; 4]
-            }
-            Kernel::Axpy { y, x, a } => {
-                lanes.axpy(y, x, a);
-                [0.0; 4]
-            }
-        }
-    }
-}
-
-/// The dot products of the vectors `a` (up to [`MAX_DIM`] + 1) with `b`
-/// into `out`, four a pass over `b`.
-fn dots(arch: pulp::Arch, a: &[&[f64]], b: &[f64], out: &mut [f64]) {
-    for (ac, oc) in a.chunks(4).zip(out.chunks_mut(4)) {
-        // A short last group repeats its first vector (its products
-        // dropped).
-        let pick = |t: usize| ac[t.min(ac.len() - 1)];
-        let d = arch.dispatch(Kernel::Dots {
-            a: [pick(0), pick(1), pick(2), pick(3)],
-            b,
-        });
-        oc.copy_from_slice(&d[..oc.len()]);
-    }
-}
-
-/// `y -= sum_t c_t x_t` over the vectors `x` (up to [`MAX_DIM`]), four a
-/// pass over `y`.
-fn axpys(arch: pulp::Arch, y: &mut [f64], x: &[&[f64]], c: &[f64]) {
-    for (xc, cc) in x.chunks(4).zip(c.chunks(4)) {
-        // A short last group repeats its first vector with weight 0.
-        let pick = |t: usize| xc[t.min(xc.len() - 1)];
-        let weight = |t: usize| cc.get(t).copied().unwrap_or(0.0);
-        arch.dispatch(Kernel::Axpy4 {
-            y: &mut *y,
-            x: [pick(0), pick(1), pick(2), pick(3)],
-            a: [weight(0), weight(1), weight(2), weight(3)],
-        });
+    } else if node == 0 {
+        n - 1
+    } else {
+        node - 1
     }
 }
 
@@ -699,7 +625,10 @@ impl SetInverse {
             None => k,
         };
         st.y = y;
-        st.fresh[..len].iter().all(|x| x.is_finite())
+        // Every entry tested (no early exit), so the test vectorises.
+        st.fresh[..len]
+            .iter()
+            .fold(true, |ok, x| ok & x.is_finite())
     }
 
     /// The row `M_aS` of node `a` with sign `sign` (`kept`, or read off
