@@ -586,6 +586,88 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
+/// The `O(k)` products of a bordering's follow (the structured
+/// borderings', [`structured`], and those of the kept solutions) in the
+/// widest lanes ([`Lanes`]: fused multiply-adds in a fixed order, the same
+/// numbers on every instruction set), four vectors a pass where they share
+/// the other operand. With the plain loops of [`dot`] (two lanes, a
+/// multiply and an add) the dot products and updates of the structured
+/// borderings were a sixth of the `N = 1024` run's instructions.
+enum Kernel<'a> {
+    /// `[a_0 . b, ..., a_3 . b]`.
+    Dots { a: [&'a [f64]; 4], b: &'a [f64] },
+    /// `y -= a_0 x_0 + ... + a_3 x_3`.
+    Axpy4 {
+        y: &'a mut [f64],
+        x: [&'a [f64]; 4],
+        a: [f64; 4],
+    },
+    /// `y -= a x`.
+    Axpy {
+        y: &'a mut [f64],
+        x: &'a [f64],
+        a: f64,
+    },
+}
+
+impl pulp::WithSimd for Kernel<'_> {
+    type Output = [f64; 4];
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, simd: S) -> [f64; 4] {
+        if S::F64_LANES == 4 {
+            self.run(Wide(simd))
+        } else {
+            self.run(Narrow)
+        }
+    }
+}
+
+impl Kernel<'_> {
+    #[inline(always)]
+    fn run<V: Lanes>(self, lanes: V) -> [f64; 4] {
+        match self {
+            Kernel::Dots { a, b } => lanes.dot4(a, b),
+            Kernel::Axpy4 { y, x, a } => {
+                lanes.axpy4(y, x, a, false);
+                [0.0; 4]
+            }
+            Kernel::Axpy { y, x, a } => {
+                lanes.axpy(y, x, a);
+                [0.0; 4]
+            }
+        }
+    }
+}
+
+/// The dot products of the vectors `a` with `b` into `out`, four a pass
+/// over `b`.
+fn dots(arch: pulp::Arch, a: &[&[f64]], b: &[f64], out: &mut [f64]) {
+    for (ac, oc) in a.chunks(4).zip(out.chunks_mut(4)) {
+        // A short last group repeats its first vector (its products
+        // dropped).
+        let pick = |t: usize| ac[t.min(ac.len() - 1)];
+        let d = arch.dispatch(Kernel::Dots {
+            a: [pick(0), pick(1), pick(2), pick(3)],
+            b,
+        });
+        oc.copy_from_slice(&d[..oc.len()]);
+    }
+}
+
+/// `y -= sum_t c_t x_t` over the vectors `x`, four a pass over `y`.
+fn axpys(arch: pulp::Arch, y: &mut [f64], x: &[&[f64]], c: &[f64]) {
+    for (xc, cc) in x.chunks(4).zip(c.chunks(4)) {
+        // A short last group repeats its first vector with weight 0.
+        let pick = |t: usize| xc[t.min(xc.len() - 1)];
+        let weight = |t: usize| cc.get(t).copied().unwrap_or(0.0);
+        arch.dispatch(Kernel::Axpy4 {
+            y: &mut *y,
+            x: [pick(0), pick(1), pick(2), pick(3)],
+            a: [weight(0), weight(1), weight(2), weight(3)],
+        });
+    }
+}
+
 /// What a node of the base matrix `A` is in the current set.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 enum Role {
@@ -669,6 +751,8 @@ pub(crate) struct SetInverse {
     /// arcs ([`structured`]); the dense factors then cover the positions
     /// before `perm.len()` only.
     structured: Option<Box<Structured>>,
+    /// The instruction set of the [`Kernel`] products, found once.
+    arch: pulp::Arch,
 }
 
 impl Clone for SetInverse {
@@ -717,6 +801,7 @@ impl SetInverse {
             factor: DenseLu::new(0),
             last_entry: 0,
             structured: None,
+            arch: pulp::Arch::new(),
         }
     }
 
@@ -756,6 +841,15 @@ impl SetInverse {
         } else {
             &self.sol
         };
+        if self.special.is_empty() {
+            // No pinned node: no role to look at.
+            for ((&node, &x), &y) in self.nodes.iter().zip(&sx[..k]).zip(&sy[..k]) {
+                let r = ux * x + uy * y;
+                finite &= r.is_finite();
+                out[node] = r;
+            }
+            return finite;
+        }
         let positions = self.nodes.iter().zip(&self.roles);
         for (((&node, &role), &x), &y) in positions.zip(&sx[..k]).zip(&sy[..k]) {
             if role != Role::Pinned {
@@ -1201,18 +1295,52 @@ impl SetInverse {
     /// `v = A^-1 M_Sa` in `self.v`, the row `M_aS` in `self.row` and the
     /// Schur complement `sigma`.
     fn follow_border(&mut self, ops: &Operators, a: usize, sign: f64, sigma: f64) {
-        let (k, f, n) = (self.nodes.len(), self.friction, self.n);
+        let (k, f, n, arch) = (self.nodes.len(), self.friction, self.n, self.arch);
         let hcol = ops.hilbert_col(a);
         let v = &self.v[..k];
         let row = &self.row[..k];
+        // r . w for the correction's columns w and r . x for the kept
+        // solutions x: four a pass over the row ([`dots`]) past
+        // `MIN_NODES`; below it, one at a time in the plain loops, whose
+        // numbers the runs at the defaults (`N = 128`) keep, as they keep
+        // the dense borderings (the Fig. 3 map's bytes moved with the
+        // lanes).
+        let wide = k >= structured::MIN_NODES;
+        let m = self.special.len();
+        let solved = if self.loads.is_some() { 2 } else { 0 };
+        let mut d = [0.0; MAX_SPECIAL + 2];
+        {
+            let mut vecs: [&[f64]; MAX_SPECIAL + 2] = [&[]; MAX_SPECIAL + 2];
+            for (t, w) in vecs.iter_mut().enumerate().take(m) {
+                *w = &self.special_cols[t * n..t * n + k];
+            }
+            for (x, sol) in vecs[m..m + solved].iter_mut().zip(&self.base_sol) {
+                *x = &sol[..k];
+            }
+            if wide {
+                dots(arch, &vecs[..m + solved], row, &mut d[..m + solved]);
+            } else {
+                for (d, x) in d.iter_mut().zip(&vecs[..m + solved]) {
+                    *d = dot(row, x);
+                }
+            }
+        }
         // The correction's columns: A_new^-1 e_q = (w + v (r.w) / sigma,
         // -(r.w) / sigma) for w = A^-1 e_q, and the reversed rows' changes
         // gain column a.
         for (t, &q) in self.special.iter().enumerate() {
             let w = &mut self.special_cols[t * n..t * n + k + 1];
-            let c = dot(row, &w[..k]) / sigma;
-            for (wi, &vi) in w[..k].iter_mut().zip(v) {
-                *wi += c * vi;
+            let c = d[t] / sigma;
+            if wide {
+                arch.dispatch(Kernel::Axpy {
+                    y: &mut w[..k],
+                    x: v,
+                    a: -c,
+                });
+            } else {
+                for (wi, &vi) in w[..k].iter_mut().zip(v) {
+                    *wi += c * vi;
+                }
             }
             w[k] = -c;
             if self.roles[q] == Role::Reversed {
@@ -1223,10 +1351,18 @@ impl SetInverse {
             // The bordered system's solution: the new entry
             // xi = (beta - r^T x) / sigma, and x - xi v on the old set.
             let betas = self.rhs(a, sign);
-            for (sol, beta) in self.base_sol.iter_mut().zip(betas) {
-                let xi = (beta - dot(row, &sol[..k])) / sigma;
-                for (x, &vi) in sol[..k].iter_mut().zip(v) {
-                    *x -= xi * vi;
+            for ((sol, beta), &rx) in self.base_sol.iter_mut().zip(betas).zip(&d[m..]) {
+                let xi = (beta - rx) / sigma;
+                if wide {
+                    arch.dispatch(Kernel::Axpy {
+                        y: &mut sol[..k],
+                        x: v,
+                        a: xi,
+                    });
+                } else {
+                    for (x, &vi) in sol[..k].iter_mut().zip(v) {
+                        *x -= xi * vi;
+                    }
                 }
                 sol[k] = xi;
             }
@@ -1304,10 +1440,23 @@ impl SetInverse {
         }
         self.capacitance.solve(&mut z[..m]);
         out.copy_from_slice(base);
-        for (t, &zt) in z[..m].iter().enumerate() {
-            let w = &self.special_cols[t * n..t * n + k];
-            for (x, &wi) in out.iter_mut().zip(w) {
-                *x += zt * wi;
+        if k >= structured::MIN_NODES {
+            // Four columns a pass over `out` in the lanes of [`Kernel`]
+            // (below `MIN_NODES` the plain loops' numbers, as in
+            // [`Self::follow_border`]).
+            let mut cols: [&[f64]; MAX_SPECIAL] = [&[]; MAX_SPECIAL];
+            let mut c = [0.0; MAX_SPECIAL];
+            for (t, (w, c)) in cols.iter_mut().zip(&mut c).enumerate().take(m) {
+                *w = &self.special_cols[t * n..t * n + k];
+                *c = -z[t];
+            }
+            axpys(self.arch, out, &cols[..m], &c[..m]);
+        } else {
+            for (t, &zt) in z[..m].iter().enumerate() {
+                let w = &self.special_cols[t * n..t * n + k];
+                for (x, &wi) in out.iter_mut().zip(w) {
+                    *x += zt * wi;
+                }
             }
         }
         self.coef = z;
@@ -1316,7 +1465,8 @@ impl SetInverse {
                 out[q] = 0.0;
             }
         }
-        out.iter().all(|x| x.is_finite())
+        // Every entry tested (no early exit), so the test vectorises.
+        out.iter().fold(true, |ok, x| ok & x.is_finite())
     }
 
     /// `x = M_SS^-1 b` with `b` given per node by `rhs(node, sign)`; the

@@ -29,8 +29,13 @@ pub struct Operators {
     abs_derivative: Vec<f64>,
     forward: Arc<dyn Fft<f64>>,
     inverse: Arc<dyn Fft<f64>>,
-    /// Symbol of `|D| + i H` per FFT bin, with the `1/N` of the inverse.
-    symbol: Vec<Complex64>,
+    /// Symbol of `|D| + i H` per FFT bin, with the `1/N` of the inverse:
+    /// `(|n| + sgn n) / N`, real, each twice (for a bin's real and
+    /// imaginary parts): the spectrum, seen as `2N` reals, is scaled by one
+    /// elementwise product. A complex product by the symbol spent two of
+    /// its four multiplies and both adds on the zero imaginary part, and
+    /// cost 20 instructions a node at `N = 1024`.
+    symbol: Vec<f64>,
 }
 
 impl std::fmt::Debug for Operators {
@@ -75,7 +80,7 @@ impl Operators {
         // combined symbol |n| + i (-i sgn n) = |n| + sgn n packs |D| g in the
         // real part and H g in the imaginary part of one inverse transform.
         let symbol = (0..n)
-            .map(|k| {
+            .flat_map(|k| {
                 let (abs, sgn) = if k == 0 {
                     (0.0, 0.0)
                 } else if k < half {
@@ -85,9 +90,9 @@ impl Operators {
                 } else {
                     ((n - k) as f64, -1.0)
                 };
-                Complex64::new(abs, 0.0) + Complex64::new(0.0, 1.0) * Complex64::new(0.0, -sgn)
+                let s = (abs + sgn) / n as f64;
+                [s, s]
             })
-            .map(|c| c / n as f64)
             .collect();
         Self {
             nodes,
@@ -109,10 +114,11 @@ impl Operators {
         scratch: &mut FftScratch,
     ) {
         let n = self.nodes;
-        scratch.data.clear();
-        scratch
-            .data
-            .extend(slip.iter().map(|&g| Complex64::new(g, 0.0)));
+        // Sized once: a resize that keeps the length writes nothing.
+        scratch.data.resize(n, Complex64::default());
+        for (z, &g) in scratch.data.iter_mut().zip(slip) {
+            *z = Complex64::new(g, 0.0);
+        }
         let need = self
             .forward
             .get_inplace_scratch_len()
@@ -122,7 +128,11 @@ impl Operators {
         }
         self.forward
             .process_with_scratch(&mut scratch.data[..n], &mut scratch.work[..need]);
-        for (x, s) in scratch.data.iter_mut().zip(&self.symbol) {
+        // Re and im of every bin by the real symbol (`Complex64` is
+        // `#[repr(C)]` `{ re, im }`: num-complex's `bytemuck` feature casts
+        // it to its two `f64`s).
+        let reals: &mut [f64] = pulp::bytemuck::cast_slice_mut(&mut scratch.data[..n]);
+        for (x, &s) in reals.iter_mut().zip(&self.symbol) {
             *x *= s;
         }
         self.inverse

@@ -31,8 +31,8 @@
 //! y = v + sum_q mu_q A^-1 e_q - sum_j eta_j A^-1 M_Sg_j
 //! ```
 //!
-//! with the `m` added nodes' equations (their rows `M_gS`, read off the
-//! operators) and `y_q = 0` at the `m - 1` removed nodes (their equations
+//! with the `m` added nodes' equations (their rows `M_gS`, kept for each
+//! edge as the solutions are) and `y_q = 0` at the `m - 1` removed nodes (their equations
 //! released by the multipliers `mu`) is a system of `2 m - 1` unknowns;
 //! `y` and `eta`, shifted forward by `d`, are the new neighbour solution.
 //! A bordering then costs about `(6 m + 4) k` multiply-adds where a pass
@@ -46,7 +46,7 @@
 //! set ([`SetInverse::catch_up`]), as the borderings would have; a rebuild
 //! (the slip zone collapsing at a reversal of the load) drops them.
 
-use super::{dot, SetInverse, NONE, PIVOT_TOL};
+use super::{axpys, dot, dots, Kernel, SetInverse, NONE, PIVOT_TOL};
 use crate::contact::operators::Operators;
 use crate::contact::reduced::DenseLu;
 
@@ -67,13 +67,21 @@ const MAX_DIM: usize = 2 * MAX_ARCS;
 /// (`N = 128`) keep the dense borderings' numbers.
 pub(super) const MIN_NODES: usize = 192;
 
-/// The node next to `node` on side `side` (0: before it, 1: after it).
+/// The node next to `node` (`< n`) on side `side` (0: before it, 1:
+/// after it). Compared, not taken modulo `n`: a division a node was a
+/// third of the shift's gather ([`SetInverse::shift_column`]).
 #[inline]
 fn step(node: usize, side: usize, n: usize) -> usize {
     if side == 1 {
-        (node + 1) % n
+        if node + 1 == n {
+            0
+        } else {
+            node + 1
+        }
+    } else if node == 0 {
+        n - 1
     } else {
-        (node + n - 1) % n
+        node - 1
     }
 }
 
@@ -95,7 +103,11 @@ pub(super) struct Structured {
     pub(super) edge: Vec<f64>,
     /// The system for the new neighbour solution.
     small: DenseLu,
-    /// The added nodes' rows `M_gS`, `m` of `n` entries.
+    /// The rows `M_gS` of the nodes `g` just outside the edges, by slot
+    /// as the solutions, [`SetInverse::row_of`]'s numbers: each gains
+    /// the entry of the entering node at a bordering ([`row_entry`]), and
+    /// only the moved edge's new neighbour is read off the operators (four
+    /// rows a bordering were, 4.5 % of the `N = 1024` run).
     rows: Vec<f64>,
     /// The solution on the shifted set, and the new neighbour solution.
     y: Vec<f64>,
@@ -104,6 +116,8 @@ pub(super) struct Structured {
     w: Vec<f64>,
     /// Two solutions of a walk of shifts ([`SetInverse::border_isolated`]).
     walk: [Vec<f64>; 2],
+    /// The instruction set the products run in, found once.
+    arch: pulp::Arch,
 }
 
 impl Structured {
@@ -150,11 +164,14 @@ impl Structured {
         debug_assert_eq!(inv.perm.len(), k, "the factors cover the set");
         let mut neighbour = vec![0.0; 2 * MAX_ARCS * n];
         let mut edge = vec![0.0; 2 * MAX_ARCS * n];
+        let mut rows = vec![0.0; 2 * MAX_ARCS * n];
         let mut x = vec![0.0; n];
         for (j, arc) in arcs.iter().enumerate() {
             for side in 0..2 {
                 let slot = (2 * j + side) * n;
-                inv.column(ops, step(arc.edge[side], side, n), &mut x[..k]);
+                let g = step(arc.edge[side], side, n);
+                inv.row_of(ops, g, arc.sign, &mut rows[slot..slot + k]);
+                inv.column(ops, g, &mut x[..k]);
                 inv.solve_base(&mut x);
                 neighbour[slot..slot + k].copy_from_slice(&x[..k]);
                 x[..k].fill(0.0);
@@ -170,11 +187,12 @@ impl Structured {
                 neighbour,
                 edge,
                 small: DenseLu::new(MAX_DIM),
-                rows: vec![0.0; MAX_ARCS * n],
+                rows,
                 y: vec![0.0; n],
                 fresh: vec![0.0; n],
                 w: vec![0.0; n],
                 walk: [vec![0.0; n], vec![0.0; n]],
+                arch: pulp::Arch::new(),
             })
         })
     }
@@ -212,7 +230,14 @@ impl Structured {
         // (`solve_base` works in `inv.v`.)
         let mut x = std::mem::take(&mut self.y);
         for side in 0..2 {
-            inv.column(ops, step(a, side, n), &mut x[..k1]);
+            let g = step(a, side, n);
+            inv.row_of(
+                ops,
+                g,
+                sign,
+                &mut self.rows[slot(m, side)..slot(m, side) + k1],
+            );
+            inv.column(ops, g, &mut x[..k1]);
             inv.solve_base(&mut x);
             self.neighbour[slot(m, side)..slot(m, side) + k1].copy_from_slice(&x[..k1]);
         }
@@ -249,6 +274,13 @@ impl Structured {
     }
 }
 
+/// `M[row, node]` for a row with slip sign `sign`, with the numbers of
+/// [`SetInverse::row_of`] (read from column `row`).
+#[inline]
+fn row_entry(ops: &Operators, friction: f64, row: usize, sign: f64, node: usize) -> f64 {
+    -ops.abs_derivative_col(row)[node] + friction * sign * ops.hilbert_col(row)[node]
+}
+
 /// `w` (`k + 1` entries, a kept solution `A^-1 z` in its first `k`)
 /// follows the bordering by a node of row `row`, `v = A^-1 M_Sa` and Schur
 /// complement `sigma`, `z_a` the new entry of its right-hand side:
@@ -262,7 +294,8 @@ fn follow(w: &mut [f64], row: &[f64], v: &[f64], sigma: f64, za: f64) {
 
 impl Structured {
     /// Every kept vector but those of the slots `skip` (arc, side) follows
-    /// the bordering by node `a` with sign `sign` ([`follow`]).
+    /// the bordering by node `a` with sign `sign` ([`follow`]), and the
+    /// kept rows gain the entry of `a`.
     #[allow(clippy::too_many_arguments)]
     fn follow_all(
         &mut self,
@@ -276,13 +309,45 @@ impl Structured {
         skip: &[(usize, usize)],
     ) {
         let (n, k) = (ops.nodes(), v.len());
+        // The vectors that follow, neighbour solution and edge column of
+        // each slot in turn, and the new entries of their right-hand sides.
+        let mut at = [0usize; 2 * MAX_ARCS];
+        let mut za = [0.0; 4 * MAX_ARCS];
+        let mut c = 0;
         for j in 0..self.arcs.len() {
             for side in (0..2).filter(|&side| !skip.contains(&(j, side))) {
-                let at = (2 * j + side) * n;
+                at[c] = (2 * j + side) * n;
                 let g = step(self.arcs[j].edge[side], side, n);
-                let za = SetInverse::entry(ops, friction, a, sign, g);
-                follow(&mut self.neighbour[at..=at + k], row, v, sigma, za);
-                follow(&mut self.edge[at..=at + k], row, v, sigma, 0.0);
+                za[2 * c] = SetInverse::entry(ops, friction, a, sign, g);
+                self.rows[at[c] + k] = row_entry(ops, friction, g, self.arcs[j].sign, a);
+                c += 1;
+            }
+        }
+        // xi = (z_a - r . w) / sigma for each ([`follow`]), then w - xi v.
+        let mut xi = [0.0; 4 * MAX_ARCS];
+        {
+            let mut vecs: [&[f64]; 4 * MAX_ARCS] = [&[]; 4 * MAX_ARCS];
+            for (t, &at) in at[..c].iter().enumerate() {
+                vecs[2 * t] = &self.neighbour[at..at + k];
+                vecs[2 * t + 1] = &self.edge[at..at + k];
+            }
+            dots(self.arch, &vecs[..2 * c], row, &mut xi[..2 * c]);
+        }
+        for (x, &z) in xi[..2 * c].iter_mut().zip(&za) {
+            *x = (z - *x) / sigma;
+        }
+        for (t, &at) in at[..c].iter().enumerate() {
+            for (kept, x) in [
+                (&mut self.neighbour, xi[2 * t]),
+                (&mut self.edge, xi[2 * t + 1]),
+            ] {
+                let w = &mut kept[at..=at + k];
+                self.arch.dispatch(Kernel::Axpy {
+                    y: &mut w[..k],
+                    x: v,
+                    a: x,
+                });
+                w[k] = x;
             }
         }
     }
@@ -359,10 +424,16 @@ impl SetInverse {
         if self.pos[beyond] != NONE {
             return self.merge_arcs(ops, st, i, s, a, sign);
         }
-        // v = A^-1 M_Sa is kept; the row r = M_aS and the pivot.
+        // v = A^-1 M_Sa and the row r = M_aS are kept; the pivot.
         let slot = |j: usize, side: usize| (2 * j + side) * n;
-        let Some(sigma) = self.schur(ops, a, sign, &st.neighbour[slot(i, s)..slot(i, s) + k])
-        else {
+        let kept = slot(i, s)..slot(i, s) + k;
+        let Some(sigma) = self.schur(
+            ops,
+            a,
+            sign,
+            Some(&st.rows[kept.clone()]),
+            &st.neighbour[kept],
+        ) else {
             return Bordered::Singular;
         };
         // The new neighbour solution, from the set S + a shifted back.
@@ -378,6 +449,9 @@ impl SetInverse {
         st.arcs[i].edge[s] = a;
         self.follow_border(ops, a, sign, sigma);
         self.push(a, sign);
+        // The row of the edge's new neighbour.
+        let g = step(a, s, n);
+        self.row_of(ops, g, sign, &mut st.rows[slot(i, s)..slot(i, s) + k + 1]);
         Bordered::Done
     }
 
@@ -467,10 +541,7 @@ impl SetInverse {
         let removed = &removed[..r];
         // Unknowns: eta_j for the added nodes, then mu_t for the removed.
         let dim = m + r;
-        let mut rows = std::mem::take(&mut st.rows);
-        for (j, &g) in added.iter().enumerate() {
-            self.row_of(ops, g, st.arcs[j].sign, &mut rows[j * n..j * n + k]);
-        }
+        let rows = std::mem::take(&mut st.rows);
         let mut rhs = [0.0; MAX_DIM];
         let mut scale = 0.0f64;
         {
@@ -479,17 +550,28 @@ impl SetInverse {
                 scale = scale.max(x.abs());
                 lu[c * dim + r] = x;
             };
+            // The added rows' products with the added nodes' solutions,
+            // the removed nodes' columns and w, `dim + 1` a pass over a row.
+            let mut vecs: [&[f64]; MAX_DIM + 1] = [&[]; MAX_DIM + 1];
+            for (l, b) in vecs.iter_mut().enumerate().take(m) {
+                *b = &st.neighbour[slot(l, o)..slot(l, o) + k];
+            }
+            for (t, &q) in removed.iter().enumerate() {
+                vecs[m + t] = &st.edge[slot(q, s)..slot(q, s) + k];
+            }
+            vecs[dim] = w;
+            let mut d = [0.0; MAX_DIM + 1];
             for (j, &g) in added.iter().enumerate() {
-                let rj = &rows[j * n..j * n + k];
+                let rj = &rows[slot(j, o)..slot(j, o) + k];
+                dots(st.arch, &vecs[..=dim], rj, &mut d[..=dim]);
                 let sj = st.arcs[j].sign;
                 for (l, &gl) in added.iter().enumerate() {
-                    let b = &st.neighbour[slot(l, o)..slot(l, o) + k];
-                    put(j, l, entry(g, sj, gl) - dot(rj, b));
+                    put(j, l, entry(g, sj, gl) - d[l]);
                 }
-                for (t, &q) in removed.iter().enumerate() {
-                    put(j, m + t, dot(rj, &st.edge[slot(q, s)..slot(q, s) + k]));
+                for t in 0..r {
+                    put(j, m + t, d[m + t]);
                 }
-                rhs[j] = col.map_or(0.0, |c| entry(g, sj, c)) - dot(rj, w);
+                rhs[j] = col.map_or(0.0, |c| entry(g, sj, c)) - d[dim];
             }
             for (t, &q) in removed.iter().enumerate() {
                 let pt = self.pos[st.arcs[q].edge[s]];
@@ -512,19 +594,20 @@ impl SetInverse {
             return false;
         }
         st.small.solve(&mut rhs[..dim]);
+        // y = w - sum_l eta_l b_l + sum_t mu_t e_t, four a pass over y.
         let mut y = std::mem::take(&mut st.y);
         y[..k].copy_from_slice(w);
-        for (l, &eta) in rhs[..m].iter().enumerate() {
-            let b = &st.neighbour[slot(l, o)..slot(l, o) + k];
-            y[..k].iter_mut().zip(b).for_each(|(y, &b)| *y -= eta * b);
+        let mut vecs: [&[f64]; MAX_DIM] = [&[]; MAX_DIM];
+        let mut c = [0.0; MAX_DIM];
+        for (l, (b, c)) in vecs.iter_mut().zip(&mut c).enumerate().take(m) {
+            *b = &st.neighbour[slot(l, o)..slot(l, o) + k];
+            *c = rhs[l];
         }
         for (t, &q) in removed.iter().enumerate() {
-            let e = &st.edge[slot(q, s)..slot(q, s) + k];
-            y[..k]
-                .iter_mut()
-                .zip(e)
-                .for_each(|(y, &e)| *y += rhs[m + t] * e);
+            vecs[m + t] = &st.edge[slot(q, s)..slot(q, s) + k];
+            c[m + t] = -rhs[m + t];
         }
+        axpys(st.arch, &mut y[..k], &vecs[..dim], &c[..dim]);
         // Shifted forward: position p holds T's value at node_p - d, which
         // is eta_j where node_p is arc j's edge on side o.
         for (x, &nd) in st.fresh[..k].iter_mut().zip(&self.nodes) {
@@ -542,17 +625,33 @@ impl SetInverse {
             None => k,
         };
         st.y = y;
-        st.fresh[..len].iter().all(|x| x.is_finite())
+        // Every entry tested (no early exit), so the test vectorises.
+        st.fresh[..len]
+            .iter()
+            .fold(true, |ok, x| ok & x.is_finite())
     }
 
-    /// The row `M_aS` of node `a` with sign `sign` into `self.row`, `v`
-    /// into `self.v` and the Schur complement `M_aa - r . v` of the
-    /// bordering, or `None` if it is too small.
-    fn schur(&mut self, ops: &Operators, a: usize, sign: f64, v: &[f64]) -> Option<f64> {
+    /// The row `M_aS` of node `a` with sign `sign` (`kept`, or read off
+    /// the operators) into `self.row`, `v` into `self.v` and the Schur
+    /// complement `M_aa - r . v` of the bordering, or `None` if it is too
+    /// small.
+    fn schur(
+        &mut self,
+        ops: &Operators,
+        a: usize,
+        sign: f64,
+        kept: Option<&[f64]>,
+        v: &[f64],
+    ) -> Option<f64> {
         let k = self.nodes.len();
-        let mut row = std::mem::take(&mut self.row);
-        self.row_of(ops, a, sign, &mut row[..k]);
-        self.row = row;
+        match kept {
+            Some(row) => self.row[..k].copy_from_slice(row),
+            None => {
+                let mut row = std::mem::take(&mut self.row);
+                self.row_of(ops, a, sign, &mut row[..k]);
+                self.row = row;
+            }
+        }
         self.v[..k].copy_from_slice(v);
         let rv = dot(&self.row[..k], &self.v[..k]);
         let d0 = SetInverse::entry(ops, self.friction, a, sign, a);
@@ -625,7 +724,7 @@ impl SetInverse {
             return Bordered::NotHere;
         }
         // The bordering by a, with v = s_t.
-        let Some(sigma) = self.schur(ops, a, sign, &walk[1][..k]) else {
+        let Some(sigma) = self.schur(ops, a, sign, None, &walk[1][..k]) else {
             st.walk = walk;
             return Bordered::Singular;
         };
@@ -645,6 +744,15 @@ impl SetInverse {
         st.walk = walk;
         self.follow_border(ops, a, sign, sigma);
         self.push(a, sign);
+        for side in 0..2 {
+            let g = step(a, side, n);
+            self.row_of(
+                ops,
+                g,
+                sign,
+                &mut st.rows[slot(m, side)..=slot(m, side) + k],
+            );
+        }
         Bordered::Done
     }
 
@@ -669,8 +777,14 @@ impl SetInverse {
             return Bordered::NotHere;
         }
         let slot = |j: usize, side: usize| (2 * j + side) * n;
-        let Some(sigma) = self.schur(ops, a, sign, &st.neighbour[slot(i, s)..slot(i, s) + k])
-        else {
+        let kept = slot(i, s)..slot(i, s) + k;
+        let Some(sigma) = self.schur(
+            ops,
+            a,
+            sign,
+            Some(&st.rows[kept.clone()]),
+            &st.neighbour[kept],
+        ) else {
             return Bordered::Singular;
         };
         let (row, v) = (&self.row[..k], &self.v[..k]);
@@ -681,9 +795,12 @@ impl SetInverse {
             .copy_within(slot(j, s)..slot(j, s) + k + 1, slot(i, s));
         st.edge
             .copy_within(slot(j, s)..slot(j, s) + k + 1, slot(i, s));
+        st.rows
+            .copy_within(slot(j, s)..slot(j, s) + k + 1, slot(i, s));
         st.neighbour
             .copy_within(slot(j + 1, 0)..slot(m, 0), slot(j, 0));
         st.edge.copy_within(slot(j + 1, 0)..slot(m, 0), slot(j, 0));
+        st.rows.copy_within(slot(j + 1, 0)..slot(m, 0), slot(j, 0));
         st.arcs.remove(j);
         self.follow_border(ops, a, sign, sigma);
         self.push(a, sign);
