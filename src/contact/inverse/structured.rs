@@ -426,14 +426,7 @@ impl SetInverse {
         }
         // v = A^-1 M_Sa and the row r = M_aS are kept; the pivot.
         let slot = |j: usize, side: usize| (2 * j + side) * n;
-        let kept = slot(i, s)..slot(i, s) + k;
-        let Some(sigma) = self.schur(
-            ops,
-            a,
-            sign,
-            Some(&st.rows[kept.clone()]),
-            &st.neighbour[kept],
-        ) else {
+        let Some(sigma) = self.kept_schur(ops, st, slot(i, s), a, sign) else {
             return Bordered::Singular;
         };
         // The new neighbour solution, from the set S + a shifted back.
@@ -631,6 +624,26 @@ impl SetInverse {
             .fold(true, |ok, x| ok & x.is_finite())
     }
 
+    /// [`Self::schur`] of node `a` entering next to the edge whose kept
+    /// row and neighbour solution start at `at` in `st`'s slots.
+    fn kept_schur(
+        &mut self,
+        ops: &Operators,
+        st: &Structured,
+        at: usize,
+        a: usize,
+        sign: f64,
+    ) -> Option<f64> {
+        let kept = at..at + self.nodes.len();
+        self.schur(
+            ops,
+            a,
+            sign,
+            Some(&st.rows[kept.clone()]),
+            &st.neighbour[kept],
+        )
+    }
+
     /// The row `M_aS` of node `a` with sign `sign` (`kept`, or read off
     /// the operators) into `self.row`, `v` into `self.v` and the Schur
     /// complement `M_aa - r . v` of the bordering, or `None` if it is too
@@ -777,14 +790,7 @@ impl SetInverse {
             return Bordered::NotHere;
         }
         let slot = |j: usize, side: usize| (2 * j + side) * n;
-        let kept = slot(i, s)..slot(i, s) + k;
-        let Some(sigma) = self.schur(
-            ops,
-            a,
-            sign,
-            Some(&st.rows[kept.clone()]),
-            &st.neighbour[kept],
-        ) else {
+        let Some(sigma) = self.kept_schur(ops, st, slot(i, s), a, sign) else {
             return Bordered::Singular;
         };
         let (row, v) = (&self.row[..k], &self.v[..k]);
