@@ -309,7 +309,7 @@ pub(crate) struct Engine {
     rg_extremes: Option<(f64, f64)>,
     /// `(max |gx|, min sgn gx)`: the extremes of the rates per unit `u1`,
     /// from which those of `rg = a1 gx` follow exactly for any `a1 > 0`
-    /// ([`Engine::rate_extremes_along_u1`]).
+    /// ([`Engine::rate_extremes`]).
     gx_extremes: Option<(f64, f64)>,
     /// The rates' extremes for the direction of the last segment whose
     /// scan looked at them ([`Engine::rates_against`]), and `max |gy|`

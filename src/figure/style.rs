@@ -121,7 +121,7 @@ pub(crate) const PALETTE: [RGBColor; 7] = [
 ];
 
 /// A line pattern. The legend sample of a series is drawn with the same
-/// pattern ([`Pattern::sample`]), so the legend looks like the plot.
+/// pattern ([`Pattern::draw`]), so the legend looks like the plot.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Pattern {
     Solid,
