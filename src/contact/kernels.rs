@@ -108,9 +108,10 @@ wide! {
 /// are `tp` and `tq`: the largest `|tp|` (the pressure of every node) and
 /// `f |tp| + |tq|` (the lower slack `f p - |q|` of a stick node, `off` 0;
 /// a slip node's, `off` infinite, is not watched). Infinite if a watched
-/// rate is not finite, so that no bound is taken from it. Taken once per slip set that
-/// outlives a segment, so it is written in vectors like the passes of an
-/// increment.
+/// rate is not finite, so that no bound is taken from it. Taken once per
+/// slip set that outlives a segment, so it is written in vectors like the
+/// passes of an increment (with the instruction set's `simd` in hand, as
+/// [`end_margins`], which the `wide!` bodies do not have).
 pub(super) fn reach(tp: &[f64], tq: &[f64], off: &[f64], f: f64) -> f64 {
     struct Op<'a> {
         tp: &'a [f64],
