@@ -10,6 +10,7 @@ use std::f64::consts::PI;
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 
@@ -60,19 +61,26 @@ impl Operators {
         let half = n / 2;
         let mut h_first = vec![0.0; n];
         let mut d_first = vec![0.0; n];
-        for (m, (h, d)) in h_first.iter_mut().zip(d_first.iter_mut()).enumerate() {
-            let theta = 2.0 * PI * m as f64 / n as f64;
-            let mut hs = 0.0;
-            let mut ds = 0.0;
-            for k in 1..half {
-                let kt = k as f64 * theta;
-                hs += kt.sin();
-                ds += k as f64 * kt.cos();
-            }
-            let nyquist = if m % 2 == 0 { 1.0 } else { -1.0 };
-            *h = 2.0 * hs / n as f64;
-            *d = (2.0 * ds + half as f64 * nyquist) / n as f64;
-        }
+        // `N^2 / 2` sines and cosines: 13 ms of the 0.4 s of a run at
+        // `N = 1024` on one thread, 0.12 s of a short run at `N = 4096`.
+        // Each entry is its own sum, so the threads change no bit of it.
+        let entries = h_first.par_iter_mut().zip(d_first.par_iter_mut());
+        entries
+            .enumerate()
+            .with_min_len(64)
+            .for_each(|(m, (h, d))| {
+                let theta = 2.0 * PI * m as f64 / n as f64;
+                let mut hs = 0.0;
+                let mut ds = 0.0;
+                for k in 1..half {
+                    let kt = k as f64 * theta;
+                    hs += kt.sin();
+                    ds += k as f64 * kt.cos();
+                }
+                let nyquist = if m % 2 == 0 { 1.0 } else { -1.0 };
+                *h = 2.0 * hs / n as f64;
+                *d = (2.0 * ds + half as f64 * nyquist) / n as f64;
+            });
         let hilbert = [h_first.as_slice(), h_first.as_slice()].concat();
         let abs_derivative = [d_first.as_slice(), d_first.as_slice()].concat();
         let mut planner = FftPlanner::new();
