@@ -5,6 +5,7 @@
 pub mod case;
 pub mod limit;
 pub mod limit_curve;
+mod meet;
 pub mod memory;
 pub mod ordered;
 pub mod regime;

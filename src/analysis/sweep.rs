@@ -17,14 +17,15 @@ use serde::{Deserialize, Serialize};
 
 use crate::analysis::case::Case;
 use crate::analysis::limit::{optimal_initial, LimitError};
+use crate::analysis::meet::{Meeting, Meets, Trace};
 use crate::analysis::ordered::{run_ordered, Abort, Interrupt, Progress};
 use crate::contact::{Contact, ResponseCache};
 use crate::model::path::Initial;
 use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError};
 use crate::stepping::steady::SteadyState;
 use crate::stepping::{
-    drive, operators, AtCenter, Control, Driven, Goal, StepError, StepOptions, StepReport, Stepper,
-    Summary,
+    drive, operators, AtCenter, Control, Driven, Goal, Observer, StepError, StepOptions,
+    StepReport, Stepper, Summary,
 };
 
 /// The swept lists of a sweep: `lambda`, `phi` and the initial paths.
@@ -529,20 +530,47 @@ impl SweepSpec {
                     s.set_zone_events(false);
                     s.set_straight_runs(true);
                     s.set_event_reports(false);
-                    let mut look = |_: &Stepper, _: &StepReport| {
-                        if stop() {
-                            Control::Stop
-                        } else {
-                            Control::Continue
+                    let mut look = Look {
+                        stop,
+                        meets: &carry.meets,
+                        trace: Trace::default(),
+                        met: None,
+                        seek: true,
+                    };
+                    look.trace.note(&s);
+                    let mut replayed = None;
+                    let outcome = loop {
+                        match drive(&mut s, Goal::Steady, &mut look) {
+                            Ok(Driven::Stopped) => match look.met.take() {
+                                // A run met: its cycles from here on are
+                                // this run's, unless they end before a
+                                // verdict (then step on, meeting no more).
+                                Some(meeting) => {
+                                    look.seek = false;
+                                    if let Some(run) = carry.meets.replay(meeting, &s) {
+                                        let summary = run.summary().cloned();
+                                        replayed = Some(run);
+                                        break Ok(summary.expect("replayed to a verdict"));
+                                    }
+                                }
+                                None => return None,
+                            },
+                            Ok(Driven::Reached) => break s.run_to_steady().map_err(RunError::Step),
+                            Err(e) => break Err(RunError::Step(e)),
                         }
                     };
-                    let outcome = match drive(&mut s, Goal::Steady, &mut look) {
-                        Ok(Driven::Stopped) => return None,
-                        Ok(Driven::Reached) => s.run_to_steady().map_err(RunError::Step),
-                        Err(e) => Err(RunError::Step(e)),
-                    };
+                    let trace = std::mem::take(&mut look.trace);
                     carry.cache = s.contact_mut().take_response_cache();
-                    carry.safe_state = s.take_safe_state_setup();
+                    carry.safe_state = match &mut replayed {
+                        Some(run) => run.take_safe_state_setup(),
+                        None => None,
+                    }
+                    .or_else(|| s.take_safe_state_setup());
+                    // A run that took another's cycles adds nothing a later
+                    // run could not meet in that one.
+                    if replayed.is_none() {
+                        carry.meets.keep(trace.finish(&s));
+                    }
                     outcome
                 }
             },
@@ -556,12 +584,42 @@ impl SweepSpec {
 }
 
 /// What a run of a group hands the next ([`SweepSpec::run_group`]): the
-/// slip rates it cached, and the setup of its search for a safe state
-/// (the elastic margins over the cycle and the cone programme's basis).
+/// slip rates it cached, the setup of its search for a safe state (the
+/// elastic margins over the cycle and the cone programme's basis), and
+/// the traces of the runs so far, for a later run that meets one of them
+/// ([`crate::analysis::meet`]).
 #[derive(Default)]
 struct Carry {
     cache: Option<ResponseCache>,
     safe_state: Option<Arc<crate::stepping::safe_state::Setup>>,
+    meets: Meets,
+}
+
+/// The observer of a sweep's run: stops it when `stop` says so, or at the
+/// start of a cycle in which it meets an earlier run of its group
+/// (`met`), and notes its state at the start of each cycle.
+struct Look<'a> {
+    stop: &'a dyn Fn() -> bool,
+    meets: &'a Meets,
+    trace: Trace,
+    met: Option<Meeting>,
+    seek: bool,
+}
+
+impl Observer for Look<'_> {
+    fn observe(&mut self, stepper: &Stepper, _: &StepReport) -> Control {
+        if (self.stop)() {
+            return Control::Stop;
+        }
+        self.trace.note(stepper);
+        if self.seek && stepper.summary().is_none() {
+            self.met = self.meets.find(stepper);
+            if self.met.is_some() {
+                return Control::Stop;
+            }
+        }
+        Control::Continue
+    }
 }
 
 /// The groups of `jobs`: the runs of one `(lambda, phi)`, consecutive in

@@ -601,6 +601,18 @@ impl Stepper {
     pub fn is_finished(&self) -> bool {
         matches!(self.status, Status::Ended(_))
     }
+    /// The cycle whose start the stepper is at (no increment of it taken),
+    /// if it is at one.
+    pub fn cycle_start(&self) -> Option<usize> {
+        match self.phase {
+            Phase::Cycle {
+                cycle,
+                increment: 0,
+            } if self.resume.is_none() => Some(cycle),
+            _ => None,
+        }
+    }
+
     /// The outcome, once there is one: the steady-state verdict or the end
     /// of the run; `None` while [`Status::Running`].
     pub fn summary(&self) -> Option<&Summary> {
@@ -1135,59 +1147,97 @@ impl Stepper {
                 );
                 done.rotation = rotation - self.rotation_at_cycle_start;
                 self.rotation_at_cycle_start = rotation;
-                report.events.push(Event::CycleCompleted {
-                    cycle,
-                    dissipation: done.dissipation,
-                    rotation: done.rotation,
-                });
-                self.history.push(done);
-                self.single_until = 0;
-                self.phase = Phase::Cycle {
-                    cycle: cycle + 1,
-                    increment: 0,
-                };
-                if matches!(self.status, Status::Running) {
-                    let verdict = assess(&self.history, &self.options.convergence)
-                        .map(|(state, approach)| (state, approach, None))
-                        .or_else(|| self.safe_state_verdict());
-                    if let Some((state, approach, certificate)) = verdict {
-                        let last = self.history.last().expect("just pushed");
-                        // A run that reached the cap keeps its last cycle
-                        // and says where `W` was heading.
-                        let trend = if approach == Approach::Cap {
-                            let w: Vec<f64> = self.history.iter().map(|r| r.dissipation).collect();
-                            trend(&w)
-                        } else {
-                            None
-                        };
-                        // A safe state proves that W tends to zero: the
-                        // steady cycle's W and rotation are zero (the last
-                        // cycle's W is in the certificate).
-                        let (dissipation, rotation_per_cycle) = if certificate.is_some() {
-                            (0.0, 0.0)
-                        } else {
-                            (last.dissipation, last.rotation)
-                        };
-                        let summary = Summary {
-                            state,
-                            approach,
-                            dissipation,
-                            cycles: self.history.len(),
-                            rotation_per_cycle,
-                            terminal_load: None,
-                            terminal_time: None,
-                            terminal_theta: None,
-                            trend,
-                            certificate,
-                        };
-                        report
-                            .events
-                            .push(Event::SteadyStateReached(summary.clone()));
-                        self.status = Status::Steady(summary);
-                    }
-                }
+                self.close_cycle(done, report);
             }
         }
+    }
+
+    /// Record the cycle just completed, move to the next, and give the
+    /// verdict if the history now has one.
+    fn close_cycle(&mut self, done: CycleRecord, report: &mut StepReport) {
+        let cycle = done.cycle;
+        report.events.push(Event::CycleCompleted {
+            cycle,
+            dissipation: done.dissipation,
+            rotation: done.rotation,
+        });
+        self.history.push(done);
+        self.single_until = 0;
+        self.phase = Phase::Cycle {
+            cycle: cycle + 1,
+            increment: 0,
+        };
+        if !matches!(self.status, Status::Running) {
+            return;
+        }
+        let verdict = assess(&self.history, &self.options.convergence)
+            .map(|(state, approach)| (state, approach, None))
+            .or_else(|| self.safe_state_verdict());
+        let Some((state, approach, certificate)) = verdict else {
+            return;
+        };
+        let last = self.history.last().expect("just pushed");
+        // A run that reached the cap keeps its last cycle and says where
+        // `W` was heading.
+        let trend = if approach == Approach::Cap {
+            let w: Vec<f64> = self.history.iter().map(|r| r.dissipation).collect();
+            trend(&w)
+        } else {
+            None
+        };
+        // A safe state proves that W tends to zero: the steady cycle's W
+        // and rotation are zero (the last cycle's W is in the certificate).
+        let (dissipation, rotation_per_cycle) = if certificate.is_some() {
+            (0.0, 0.0)
+        } else {
+            (last.dissipation, last.rotation)
+        };
+        let summary = Summary {
+            state,
+            approach,
+            dissipation,
+            cycles: self.history.len(),
+            rotation_per_cycle,
+            terminal_load: None,
+            terminal_time: None,
+            terminal_theta: None,
+            trend,
+            certificate,
+        };
+        report
+            .events
+            .push(Event::SteadyStateReached(summary.clone()));
+        self.status = Status::Steady(summary);
+    }
+
+    /// Take a whole cycle from another run of the same case instead of
+    /// stepping it: `record` is what that run's cycle did, and `end_slip`
+    /// its slip at the cycle's end, to which `shift` (a rigid rotation) is
+    /// added. Valid only when this run starts the cycle in the state that
+    /// one started it in, up to the rotation (see
+    /// [`crate::analysis::sweep`]'s replay of coinciding runs): the cycle
+    /// is then the same, and so is everything decided after it (the
+    /// verdict, a search for a safe state), which is decided here as after
+    /// a cycle stepped. False, doing nothing, unless the stepper is at the
+    /// start of cycle `record.cycle` with no verdict.
+    pub(crate) fn replay_cycle(
+        &mut self,
+        record: &CycleRecord,
+        end_slip: &[f64],
+        shift: f64,
+    ) -> bool {
+        let at_start =
+            matches!(self.phase, Phase::Cycle { cycle, increment: 0 } if cycle == record.cycle);
+        if !at_start || !matches!(self.status, Status::Running) || self.resume.is_some() {
+            return false;
+        }
+        let slip: Vec<f64> = end_slip.iter().map(|g| g + shift).collect();
+        self.contact.set_slip(&slip);
+        self.increments += self.disc.steps_per_cycle();
+        self.current = CycleRecord::new(record.cycle + 1, self.contact.nodes());
+        self.rotation_at_cycle_start = self.contact.rotation();
+        self.close_cycle(record.clone(), &mut StepReport::default());
+        true
     }
 
     /// After a complete cycle without a verdict: shakedown proven by a safe
