@@ -37,10 +37,11 @@ use crate::stepping::Stepper;
 /// most this fraction of the slip's range at every node.
 pub(crate) const TOLERANCE: f64 = 1e-12;
 
-/// Bytes of traces one group keeps (past it, later runs are not kept):
-/// the 25 runs of a `lambda` of the Fig. 3 map take about 1 MB at
-/// `N = 128`.
-const BUDGET: usize = 2 << 20;
+/// Bytes of traces one group keeps (past it, later runs are not kept).
+/// Kept whole, the 25 runs of a `lambda` of the Fig. 3 map would take up
+/// to 1.8 MB at `N = 128` (the median 0.5 MB); a run that took another's
+/// cycles is not kept, and the map's rows are the same at 1 MB as at 2 MB.
+const BUDGET: usize = 1 << 20;
 
 /// Runs of more cycles than this are not kept: runs meet within their
 /// first few cycles (in the Fig. 3 map at cycle 2 nearly always, at 6 at
