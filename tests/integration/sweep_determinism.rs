@@ -122,3 +122,59 @@ fn a_run_gives_the_numbers_of_its_sweep_row() {
         }
     }
 }
+
+/// Runs of a group that meet (at `lambda = 5`, `phi = 0` these four
+/// transients start cycle 2 in one state, `docs/model.md` section 3.3)
+/// take the cycles of the first of them in a sweep, and `shakedown run`
+/// steps each of them alone: the rows have the state and cycles `run`
+/// gives, and its `W` and rotation to round-off.
+#[test]
+fn runs_that_meet_keep_the_rows_run_gives() {
+    let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args(["sweep", "--lambda", "5", "--phi", "0"])
+        .arg("--initial=OA,7,3,5,5,-7,-3")
+        .output()
+        .expect("the binary runs");
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let rows: Vec<&str> = text
+        .lines()
+        .skip_while(|l| l.starts_with('#'))
+        .skip(1)
+        .collect();
+    assert_eq!(rows.len(), 4);
+    let mut dissipations = Vec::new();
+    for row in rows {
+        let (_, rest) = row.split_once(",\"").unwrap();
+        let (initial, rest) = rest.split_once("\",").unwrap();
+        let fields: Vec<&str> = rest.split(',').collect();
+        let run = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+            .args(["run", "--lambda", "5", "--phi", "0", "--json"])
+            .arg(format!("--initial={initial}"))
+            .output()
+            .expect("the binary runs");
+        assert!(run.status.success(), "{row}");
+        let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+        assert_eq!(json["state"], fields[0], "{row}");
+        assert_eq!(json["state"], "cyclic-slip", "{row}");
+        assert_eq!(json["cycles"], fields[2].parse::<u64>().unwrap(), "{row}");
+        let w: f64 = fields[1].parse().unwrap();
+        let from_run = json["dissipation"].as_f64().unwrap();
+        assert!(
+            (from_run - w).abs() <= 1e-10 * w,
+            "{row}: run gives {from_run:e}"
+        );
+        let rotation: f64 = fields[3].parse().unwrap();
+        let from_run = json["rotation_per_cycle"].as_f64().unwrap();
+        assert!(
+            (from_run - rotation).abs() <= 1e-10 * w,
+            "{row}: run gives {from_run:e}"
+        );
+        dissipations.push(w);
+    }
+    // The rows of the runs that met carry the first run's W.
+    assert!(
+        dissipations.iter().all(|&w| w == dissipations[0]),
+        "{dissipations:?}"
+    );
+}
