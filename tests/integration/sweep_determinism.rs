@@ -53,6 +53,49 @@ fn same_bytes_whatever_the_thread_count() {
     assert!(rows[6].starts_with("5.5,0,\"OA\","));
 }
 
+/// The data rows of `shakedown sweep` with `args` (header and metadata
+/// left out), on two threads.
+fn sweep_rows(args: &[&str]) -> Vec<String> {
+    let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .arg("sweep")
+        .args(args)
+        .env("RAYON_NUM_THREADS", "2")
+        .output()
+        .expect("the binary runs");
+    assert!(out.status.success());
+    String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .skip_while(|l| l.starts_with('#'))
+        .skip(1)
+        .map(str::to_string)
+        .collect()
+}
+
+/// A row's `lambda`, `phi`, initial path and the fields after it:
+/// `state,dissipation,cycles,rotation_per_cycle`.
+fn fields(row: &str) -> (&str, &str, &str, Vec<&str>) {
+    let (head, rest) = row.split_once(",\"").unwrap();
+    let (initial, rest) = rest.split_once("\",").unwrap();
+    let (lambda, phi) = head.split_once(',').unwrap();
+    (lambda, phi, initial, rest.split(',').collect())
+}
+
+/// `shakedown run --json` of one case.
+fn run_json(lambda: &str, phi: &str, initial: &str) -> serde_json::Value {
+    let run = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args(["run", "--lambda", lambda, "--phi", phi, "--json"])
+        .arg(format!("--initial={initial}"))
+        .output()
+        .expect("the binary runs");
+    assert!(run.status.success(), "{lambda} {phi} {initial}");
+    serde_json::from_slice(&run.stdout).unwrap()
+}
+
+fn number(s: &str) -> f64 {
+    s.parse().unwrap_or_else(|_| panic!("a number: '{s}'"))
+}
+
 /// `shakedown run` of one case gives that case's row in a sweep: the same
 /// state and cycles, and for the first initial path of each `lambda` and
 /// `phi` the very numbers (the sweep starts every `lambda` and `phi` of an
@@ -65,41 +108,18 @@ fn same_bytes_whatever_the_thread_count() {
 /// sweep did not.)
 #[test]
 fn a_run_gives_the_numbers_of_its_sweep_row() {
-    let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
-        .args([
-            "sweep",
-            "--lambda",
-            "5.05,6.85,7.05",
-            "--phi",
-            "0,0.3pi",
-            "--initial",
-            "7,-7,-5,5,-7,3",
-        ])
-        .env("RAYON_NUM_THREADS", "2")
-        .output()
-        .expect("the binary runs");
-    assert!(out.status.success());
-    let text = String::from_utf8(out.stdout).unwrap();
-    let rows: Vec<&str> = text
-        .lines()
-        .skip_while(|l| l.starts_with('#'))
-        .skip(1)
-        .collect();
+    let rows = sweep_rows(&[
+        "--lambda",
+        "5.05,6.85,7.05",
+        "--phi",
+        "0,0.3pi",
+        "--initial",
+        "7,-7,-5,5,-7,3",
+    ]);
     assert_eq!(rows.len(), 3 * 2 * 3);
-    let number = |s: &str| -> f64 { s.parse().unwrap_or_else(|_| panic!("a number: '{s}'")) };
-    for row in rows {
-        // lambda,phi,"initial",state,dissipation,cycles,rotation_per_cycle
-        let (head, rest) = row.split_once(",\"").unwrap();
-        let (initial, rest) = rest.split_once("\",").unwrap();
-        let (lambda, phi) = head.split_once(',').unwrap();
-        let fields: Vec<&str> = rest.split(',').collect();
-        let run = Command::new(env!("CARGO_BIN_EXE_shakedown"))
-            .args(["run", "--lambda", lambda, "--phi", phi, "--json"])
-            .arg(format!("--initial={initial}"))
-            .output()
-            .expect("the binary runs");
-        assert!(run.status.success(), "{row}");
-        let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    for row in &rows {
+        let (lambda, phi, initial, fields) = fields(row);
+        let json = run_json(lambda, phi, initial);
         assert_eq!(json["state"], fields[0], "{row}");
         assert_eq!(json["cycles"], number(fields[2]) as u64, "{row}");
         for (key, text) in [
@@ -130,44 +150,24 @@ fn a_run_gives_the_numbers_of_its_sweep_row() {
 /// gives, and its `W` and rotation to round-off.
 #[test]
 fn runs_that_meet_keep_the_rows_run_gives() {
-    let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
-        .args(["sweep", "--lambda", "5", "--phi", "0"])
-        .arg("--initial=OA,7,3,5,5,-7,-3")
-        .output()
-        .expect("the binary runs");
-    assert!(out.status.success());
-    let text = String::from_utf8(out.stdout).unwrap();
-    let rows: Vec<&str> = text
-        .lines()
-        .skip_while(|l| l.starts_with('#'))
-        .skip(1)
-        .collect();
+    let rows = sweep_rows(&["--lambda", "5", "--phi", "0", "--initial=OA,7,3,5,5,-7,-3"]);
     assert_eq!(rows.len(), 4);
     let mut dissipations = Vec::new();
-    for row in rows {
-        let (_, rest) = row.split_once(",\"").unwrap();
-        let (initial, rest) = rest.split_once("\",").unwrap();
-        let fields: Vec<&str> = rest.split(',').collect();
-        let run = Command::new(env!("CARGO_BIN_EXE_shakedown"))
-            .args(["run", "--lambda", "5", "--phi", "0", "--json"])
-            .arg(format!("--initial={initial}"))
-            .output()
-            .expect("the binary runs");
-        assert!(run.status.success(), "{row}");
-        let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    for row in &rows {
+        let (lambda, phi, initial, fields) = fields(row);
+        let json = run_json(lambda, phi, initial);
         assert_eq!(json["state"], fields[0], "{row}");
         assert_eq!(json["state"], "cyclic-slip", "{row}");
-        assert_eq!(json["cycles"], fields[2].parse::<u64>().unwrap(), "{row}");
-        let w: f64 = fields[1].parse().unwrap();
+        assert_eq!(json["cycles"], number(fields[2]) as u64, "{row}");
+        let w = number(fields[1]);
         let from_run = json["dissipation"].as_f64().unwrap();
         assert!(
             (from_run - w).abs() <= 1e-10 * w,
             "{row}: run gives {from_run:e}"
         );
-        let rotation: f64 = fields[3].parse().unwrap();
         let from_run = json["rotation_per_cycle"].as_f64().unwrap();
         assert!(
-            (from_run - rotation).abs() <= 1e-10 * w,
+            (from_run - number(fields[3])).abs() <= 1e-10 * w,
             "{row}: run gives {from_run:e}"
         );
         dissipations.push(w);
