@@ -605,10 +605,7 @@ impl Engine {
             (&mut self.gy, &mut self.hpy, &mut self.hqy)
         };
         // Straight into place: `H g'`, and `|D| g'` negated where it lies.
-        ops.apply_both(&self.full, hp, hq, fft);
-        for o in hq.iter_mut() {
-            *o = -*o;
-        }
+        ops.apply_both_to_shear(&self.full, hp, hq, fft);
         // `full` is filled afresh before each use: hand its buffer over.
         std::mem::swap(g, &mut self.full);
         self.totals(axis);

@@ -643,6 +643,38 @@ pub(super) fn four(s: &[f64]) -> &[[f64; 4]] {
     s.as_chunks::<4>().0
 }
 
+wide! {
+    /// `pairs = (x_j, 0)` for every `j`: a real vector as complex numbers
+    /// (`{ re, im }` pairs) for the FFT of [`super::operators`].
+    fn to_complex<'a>(pairs: &'a mut [f64], x: &'a [f64]) -> () {
+        for (pair, &x) in pairs.chunks_exact_mut(2).zip(x) {
+            pair[0] = x;
+            pair[1] = 0.0;
+        }
+    }
+}
+
+wide! {
+    /// `x *= s` elementwise.
+    fn scale<'a>(x: &'a mut [f64], s: &'a [f64]) -> () {
+        for (x, &s) in x.iter_mut().zip(s) {
+            *x *= s;
+        }
+    }
+}
+
+wide! {
+    /// The real parts of complex numbers (`{ re, im }` pairs), negated if
+    /// `negate`, into `re`, and the imaginary parts into `im`.
+    fn from_complex<'a>(pairs: &'a [f64], re: &'a mut [f64], im: &'a mut [f64], negate: bool) -> () {
+        let sign = if negate { -1.0 } else { 1.0 };
+        for ((pair, re), im) in pairs.chunks_exact(2).zip(re.iter_mut()).zip(im.iter_mut()) {
+            *re = sign * pair[0];
+            *im = pair[1];
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
