@@ -10,7 +10,8 @@
 //! `x86_64` and uses AVX2 where it exists. The two passes that dominate an
 //! increment ([`end_margins`] and [`slide`]) are written in `pulp`'s
 //! vectors, because the compiler does not vectorise them by itself; the
-//! rest are loops it vectorises.
+//! rest are loops it vectorises, as are the passes that pack a slip vector
+//! into the FFT of [`super::operators`] and its responses out of it.
 //!
 //! Results do not depend on the instruction set: every lane does the scalar
 //! operations in the scalar order (no fused multiply-add is formed: Rust
