@@ -534,22 +534,27 @@ wide! {
             // Along `u1` alone (a straight load path): the rates along
             // `u2` are not read (`0 py` adds nothing but the sign of a
             // zero, which no test below sees).
-            let nodes = p[..n].iter().zip(&q[..n]).zip(&px[..n]).zip(&qx[..n]).zip(&off[..n]);
+            let nodes = p[..n]
+                .iter()
+                .zip(&q[..n])
+                .zip(&px[..n])
+                .zip(&qx[..n])
+                .zip(&off[..n]);
             for (o, ((((&p, &q), &px), &qx), &off)) in out.iter_mut().zip(nodes) {
                 *o = event_time([p, q, px, 0.0, qx, 0.0, off], along, f, rate_tol);
             }
         } else {
-        let nodes = p[..n]
-            .iter()
-            .zip(&q[..n])
-            .zip(&px[..n])
-            .zip(&py[..n])
-            .zip(&qx[..n])
-            .zip(&qy[..n])
-            .zip(&off[..n]);
-        for (o, ((((((&p, &q), &px), &py), &qx), &qy), &off)) in out.iter_mut().zip(nodes) {
-            *o = event_time([p, q, px, py, qx, qy, off], along, f, rate_tol);
-        }
+            let nodes = p[..n]
+                .iter()
+                .zip(&q[..n])
+                .zip(&px[..n])
+                .zip(&py[..n])
+                .zip(&qx[..n])
+                .zip(&qy[..n])
+                .zip(&off[..n]);
+            for (o, ((((((&p, &q), &px), &py), &qx), &qy), &off)) in out.iter_mut().zip(nodes) {
+                *o = event_time([p, q, px, py, qx, qy, off], along, f, rate_tol);
+            }
         }
         let mut low = [f64::INFINITY; 4];
         for t4 in four(out) {
