@@ -118,30 +118,21 @@ impl Operators {
         relief: &mut [f64],
         scratch: &mut FftScratch,
     ) {
-        self.transform(slip, pressure, relief, false, scratch);
+        self.convolve_with(slip, scratch, |pairs| {
+            kernels::from_complex(pairs, relief, pressure)
+        });
     }
 
-    /// `H g` into `pressure` and `-|D| g` (the residual shear) into
-    /// `shear`: [`Self::apply_both`] with the sign taken as the numbers
-    /// leave the transform, not in a pass of its own.
-    pub(crate) fn apply_both_to_shear(
+    /// The transform of [`Self::apply_both`], its result handed to
+    /// `unpack` as the `{ re, im }` pairs of `|D| g + i H g` rather than
+    /// copied out: a caller that goes on to combine the responses with
+    /// other arrays does it in the pass that unpacks them.
+    pub(crate) fn convolve_with<R>(
         &self,
         slip: &[f64],
-        pressure: &mut [f64],
-        shear: &mut [f64],
         scratch: &mut FftScratch,
-    ) {
-        self.transform(slip, pressure, shear, true, scratch);
-    }
-
-    fn transform(
-        &self,
-        slip: &[f64],
-        pressure: &mut [f64],
-        relief: &mut [f64],
-        negate: bool,
-        scratch: &mut FftScratch,
-    ) {
+        unpack: impl FnOnce(&[f64]) -> R,
+    ) -> R {
         let n = self.nodes;
         // Sized once: a resize that keeps the length writes nothing.
         scratch.data.resize(n, Complex64::default());
@@ -167,12 +158,7 @@ impl Operators {
         );
         self.inverse
             .process_with_scratch(&mut scratch.data[..n], &mut scratch.work[..need]);
-        kernels::from_complex(
-            pulp::bytemuck::cast_slice(&scratch.data[..n]),
-            relief,
-            pressure,
-            negate,
-        );
+        unpack(pulp::bytemuck::cast_slice(&scratch.data[..n]))
     }
 
     /// Number of nodes `N`.
@@ -339,13 +325,33 @@ mod tests {
         for j in 0..n {
             assert!((p[j] - p_dense[j]).abs() < 1e-12);
             assert!((r[j] + q_dense[j]).abs() < 1e-12);
-        } // The shear straight out of the transform: the relief negated, to
-          // the bit, and the same pressure.
+        }
+        // The shear straight out of the transform, the relief negated, and
+        // the totals in the same pass: to the bit, the numbers of the
+        // separate passes.
+        let elastic: Vec<Vec<f64>> = (0..4)
+            .map(|i| {
+                (0..n)
+                    .map(|j| ((j * 5 + i * 3) % 11) as f64 / 7.0 - 0.6)
+                    .collect()
+            })
+            .collect();
+        let (ux, uy) = (0.6, -0.8);
         let (mut p2, mut q) = (vec![0.0; n], vec![0.0; n]);
-        ops.apply_both_to_shear(&g, &mut p2, &mut q, &mut FftScratch::default());
+        let (mut tp, mut tq) = (vec![0.0; n], vec![0.0; n]);
+        let e = [&elastic[0][..], &elastic[1], &elastic[2], &elastic[3]];
+        ops.convolve_with(&g, &mut FftScratch::default(), |pairs| {
+            kernels::from_complex_totals(pairs, [&mut p2, &mut q], [&mut tp, &mut tq], (ux, uy), e)
+        });
+        let (mut tp2, mut tq2) = (vec![0.0; n], vec![0.0; n]);
+        let minus_r: Vec<f64> = r.iter().map(|&r| -r).collect();
+        kernels::combine_plus(&mut tp2, ux, e[0], uy, e[1], &p);
+        kernels::combine_plus(&mut tq2, ux, e[2], uy, e[3], &minus_r);
         for j in 0..n {
             assert_eq!(p2[j].to_bits(), p[j].to_bits());
             assert_eq!(q[j].to_bits(), (-r[j]).to_bits());
+            assert_eq!(tp[j].to_bits(), tp2[j].to_bits());
+            assert_eq!(tq[j].to_bits(), tq2[j].to_bits());
         }
     }
 
