@@ -652,11 +652,21 @@ impl Engine {
         self.forget_bounds();
         self.lent[axis] = None;
         let (g, hp, hq, tp, tq) = if axis == 0 {
-            let x = (&mut self.gx, &mut self.hpx, &mut self.hqx);
-            (x.0, x.1, x.2, &mut self.tpx, &mut self.tqx)
+            (
+                &mut self.gx,
+                &mut self.hpx,
+                &mut self.hqx,
+                &mut self.tpx,
+                &mut self.tqx,
+            )
         } else {
-            let y = (&mut self.gy, &mut self.hpy, &mut self.hqy);
-            (y.0, y.1, y.2, &mut self.tpy, &mut self.tqy)
+            (
+                &mut self.gy,
+                &mut self.hpy,
+                &mut self.hqy,
+                &mut self.tpy,
+                &mut self.tqy,
+            )
         };
         // Straight into place: `H g'`, `|D| g'` negated, and the totals
         // ([`Self::totals`]) in the pass that unpacks the transform.
