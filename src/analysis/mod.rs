@@ -3,6 +3,7 @@
 //! `lambda_3`.
 
 pub mod case;
+pub mod design;
 pub mod limit;
 pub mod limit_curve;
 mod meet;

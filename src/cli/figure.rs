@@ -191,6 +191,9 @@ fn sweep_points(
 
 /// Run `shakedown figure`.
 pub fn figure(args: FigureArgs) -> Result<ExitCode> {
+    if args.name == "design" {
+        return super::design::figure(&args);
+    }
     let preset = load_preset("figure", &args.name)?;
     let Some(fig) = preset.figure.clone() else {
         return Err(anyhow!(InputError(format!(

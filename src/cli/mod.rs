@@ -13,6 +13,7 @@ macro_rules! outln {
 }
 
 pub mod batch;
+mod design;
 mod figure;
 mod limit;
 mod merge;
@@ -59,6 +60,8 @@ enum Command {
     Figure(figure::FigureArgs),
     /// The shakedown limit lambda_2 by linear programming, and its optimal slip.
     Limit(limit::LimitArgs),
+    /// Search transients O -> P1 -> ... -> PK -> A whose steady cycle shakes down at --lambda (or, with --frontier, the highest lambda at which one found does).
+    Design(design::DesignArgs),
 }
 
 /// Flags of the model and its discretisation, shared by every command.
@@ -468,6 +471,7 @@ pub fn main() -> ExitCode {
         Some(Command::Presets) => presets::presets(),
         Some(Command::Figure(a)) => figure::figure(a),
         Some(Command::Limit(a)) => limit::limit(a),
+        Some(Command::Design(a)) => design::design(a),
     };
     match result {
         Ok(code) => code,

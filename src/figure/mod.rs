@@ -15,6 +15,7 @@
 //!   from a figure's CSV.
 
 pub mod data;
+pub mod design;
 pub mod dissipation;
 pub mod memory;
 pub mod regime;
