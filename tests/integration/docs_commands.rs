@@ -209,3 +209,59 @@ fn the_docs_name_no_machine_paths() {
         }
     }
 }
+
+/// The README's promise that `cargo test` after `cargo build` compiles no
+/// dependency twice: every package the normal build uses has the same
+/// features when the dev-dependencies join (Cargo's resolver 2 builds a
+/// package once per feature set; docs/decisions/0007-build-once.md).
+#[test]
+fn test_builds_reuse_every_dependency_of_the_normal_build() {
+    let tree = |edges: &str| {
+        let out = Command::new(env!("CARGO"))
+            .args([
+                "tree",
+                "--offline",
+                "--prefix",
+                "none",
+                "-f",
+                "{p}|{f}",
+                "-e",
+                edges,
+            ])
+            .current_dir(root())
+            .output()
+            .expect("cargo runs");
+        assert!(
+            out.status.success(),
+            "cargo tree -e {edges}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        // A package can appear more than once (built for the host and the
+        // target): keep every feature set it is built with.
+        let mut sets =
+            std::collections::BTreeMap::<String, std::collections::BTreeSet<String>>::new();
+        for line in String::from_utf8_lossy(&out.stdout).lines() {
+            if let Some((package, features)) = line.trim_end_matches(" (*)").split_once('|') {
+                sets.entry(package.to_string())
+                    .or_default()
+                    .insert(features.to_string());
+            }
+        }
+        sets
+    };
+    let normal = tree("normal,build");
+    let with_dev = tree("normal,build,dev");
+    let split: Vec<String> = normal
+        .iter()
+        .filter_map(|(package, features)| {
+            let dev = with_dev.get(package)?;
+            (dev != features)
+                .then(|| format!("{package}: {features:?}, but {dev:?} with the dev-dependencies"))
+        })
+        .collect();
+    assert!(
+        split.is_empty(),
+        "built twice (turn these features on in [dependencies]):\n{}",
+        split.join("\n")
+    );
+}
