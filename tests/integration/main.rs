@@ -6,6 +6,7 @@ mod bad_input;
 mod batch_cli;
 mod common;
 mod design;
+mod docs_commands;
 mod engine;
 mod figures;
 mod history_trim;
