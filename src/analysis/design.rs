@@ -92,14 +92,13 @@ pub struct Region {
 }
 
 impl Region {
-    /// The box for `material`: `|y| <= 2 pi - GROSS_SLIP_GAP`, and `|x|` below
-    /// both the separation bound (less 0.1 %) and `3 pi` (the paper's
-    /// turning points reach `7 pi / 4`; far beyond them a transient only
-    /// writes slip that the return to `A` must undo).
+    /// The box for `material`: `|y| <= 2 pi - GROSS_SLIP_GAP`, and `|x|` at
+    /// most 99.9 % of the separation bound `2 pi chi / (f beta)` (12.21 for
+    /// the paper's material).
     pub fn for_material(material: &Material) -> Self {
         let separation = 2.0 * PI * material.chi() / (material.friction() * material.beta());
         Self {
-            x_max: (0.999 * separation).min(3.0 * PI),
+            x_max: 0.999 * separation,
             y_max: 2.0 * PI - GROSS_SLIP_GAP,
         }
     }

@@ -4,6 +4,7 @@
 
 pub mod case;
 pub mod design;
+pub mod episodes;
 pub mod limit;
 pub mod limit_curve;
 mod meet;
