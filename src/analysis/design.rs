@@ -209,6 +209,10 @@ impl Shape {
                 );
                 (0..self.vertices)
                     .map(|k| {
+                        // P1 itself, not A + (P1 - A) with its rounding.
+                        if k == 0 {
+                            return first;
+                        }
                         let (s, c) = (k as f64 * alpha).sin_cos();
                         let scale = rho.powi(k as i32);
                         self.region.clamp(

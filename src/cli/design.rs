@@ -182,6 +182,29 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
     };
     let base = args.case.base(CaseParams::default())?;
     let (params, case) = args.case.case(base.clone())?;
+    // The flags that `run` needs besides the path, as the user gave them.
+    let mut lambda_text = lambda_text;
+    if let Some(p) = &args.case.preset {
+        lambda_text.push_str(&format!(" --preset {p}"));
+    }
+    for flag in [
+        "phi",
+        "psi",
+        "center",
+        "friction",
+        "nu",
+        "plane",
+        "nodes",
+        "steps",
+        "max-cycles",
+    ] {
+        if let Some(v) = args.case.given(flag) {
+            lambda_text.push_str(&format!(" --{flag} {v}"));
+        }
+    }
+    if args.case.model.run_out {
+        lambda_text.push_str(" --run-out");
+    }
     let runner = Runner::new(&case);
     let shape = Shape::new(
         family,
@@ -348,7 +371,7 @@ fn readable(
     let _ = writeln!(
         o,
         "case      lambda = {}  phi = {}  A = ({:.4}, {:.4})  N = {}, {} increments/cycle",
-        lambda_text,
+        case.cycle.load_factor(),
         case.cycle.phase(),
         case.cycle.center().x(),
         case.cycle.center().y(),
@@ -412,6 +435,10 @@ fn readable(
         } else {
             "   (rerun DIFFERS)"
         }
+    );
+    let _ = writeln!(
+        o,
+        "explore   shakedown tui --lambda {lambda_text} --initial-path \"{text}\"   (the path is drawn on the load plane, the slip built step by step)"
     );
     o
 }

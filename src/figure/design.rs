@@ -45,9 +45,11 @@ impl DesignPlot<'_> {
     }
 
     fn best(&self, name: &str) -> Option<&FrontierRecord> {
+        // The first (fewest vertices) of the highest: a larger K that only
+        // pads the same path with vertices at A gains nothing.
         self.family(name)
             .into_iter()
-            .max_by(|a, b| a.lambda.total_cmp(&b.lambda))
+            .reduce(|a, b| if b.lambda > a.lambda { b } else { a })
     }
 
     fn frontier<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), String> {
@@ -270,7 +272,7 @@ impl DesignPlot<'_> {
                 Text::new("A", (a.0 + 0.15, a.1 - 0.5), font(15.0)),
             ])
             .map_err(s)?;
-        legend(&mut chart, SeriesLabelPosition::LowerLeft)
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)
     }
 }
 
