@@ -7,8 +7,8 @@ mod increment;
 mod inverse;
 mod kernels;
 mod operators;
-mod reduced;
 mod solver;
+mod tolerances;
 
 pub use increment::{ContactEvent, ContactEventKind, Increment};
 pub use operators::Operators;
