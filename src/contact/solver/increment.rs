@@ -33,15 +33,17 @@
 
 use std::f64::consts::PI;
 
-use super::cache::{self, ResponseCache, SetKey};
-use super::kernels::{self, at_limit, end_margins, event_times, rate_extremes};
-use super::operators::{FftScratch, Operators};
-use super::solver::{
+use super::{
     fingerprint, push_differences, same_directions, Advanced, Contact, ContactEnd, ContactError,
     SlipDirection, Solved, Workspace,
 };
-use super::solver::{node_to_hold, on_the_torque_limit, MAX_HELD};
-use super::tolerances::{CLEARANCE_SLACK, DG_TOL, EVENT_TIES, RATE_TOL, SCREEN, TRACTION_TOL};
+use super::{node_to_hold, on_the_torque_limit, MAX_HELD};
+use crate::contact::cache::{self, ResponseCache, SetKey};
+use crate::contact::kernels::{self, at_limit, end_margins, event_times, rate_extremes};
+use crate::contact::operators::{FftScratch, Operators};
+use crate::contact::tolerances::{
+    CLEARANCE_SLACK, DG_TOL, EVENT_TIES, RATE_TOL, SCREEN, TRACTION_TOL,
+};
 use crate::model::LoadPoint;
 
 /// A slip set of fewer than `N / SET_LOOP_SHARE` nodes has its slip moved
@@ -1654,7 +1656,7 @@ impl Contact {
 
 #[cfg(test)]
 mod tests {
-    use super::super::solver::tests::direction;
+    use super::super::tests::direction;
     use super::{Engine, SetKey};
     use proptest::prelude::*;
 

@@ -7,15 +7,21 @@
 //! solved by an active-set iteration warm-started from the previous
 //! increment's slip set. The system matrix depends only on `(S, s)`, so its
 //! LU factorisation is kept and reused while the slip set does not change.
+//!
+//! [`Contact`]'s data and its methods live in this folder: the state, its
+//! accessors and the finite step here, the exact path-following increment
+//! ([`Contact::advance`]) and its engine in [`increment`].
 
 use std::f64::consts::PI;
 
-use super::increment::{Engine, Increment};
+mod increment;
 use super::inverse::SetInverse;
 use super::kernels::DenseLu;
 use super::operators::{FftScratch, Operators};
 use super::tolerances::{DG_TOL, GROSS_TOL, TRACTION_TOL};
 use crate::model::{LoadPoint, Material};
+use increment::Engine;
+pub use increment::{ContactEvent, ContactEventKind, Increment};
 
 /// Direction of slip at one node during the last increment, named as the
 /// paper names it (model.md section 1.3): **forward** slip is `dh > 0`, that
