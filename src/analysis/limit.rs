@@ -123,8 +123,9 @@ pub fn is_line(slope: f64, phase: f64) -> bool {
 /// only; a line uses its two ends.
 ///
 /// The linear programme of model.md section 7.3 in `(g, lambda)`, with
-/// `mean g = 0`, solved by an interior-point method on a growing subset of
-/// the samples until no sample is violated.
+/// `mean g = 0`, solved by an interior-point method on the `2 N` rows that
+/// can bind (per node and sign, the sample where the load raises
+/// `s q - f p` fastest), whatever the number of samples.
 ///
 /// # Errors
 ///
