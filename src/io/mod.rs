@@ -8,4 +8,5 @@ pub mod csv;
 pub mod output;
 pub mod parse;
 pub mod preset;
+pub mod profile;
 pub mod read;
