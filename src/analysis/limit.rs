@@ -123,8 +123,9 @@ pub fn is_line(slope: f64, phase: f64) -> bool {
 /// only; a line uses its two ends.
 ///
 /// The linear programme of model.md section 7.3 in `(g, lambda)`, with
-/// `mean g = 0`, solved by an interior-point method on a growing subset of
-/// the samples until no sample is violated.
+/// `mean g = 0`, solved by an interior-point method on the `2 N` rows that
+/// can bind (per node and sign, the sample where the load raises
+/// `s q - f p` fastest), whatever the number of samples.
 ///
 /// # Errors
 ///
@@ -160,58 +161,12 @@ pub fn shakedown_limit(
     let n = disc.nodes();
     let ops = Arc::new(Operators::new(n));
     let contact = Contact::new(*material, Arc::clone(&ops));
-    let (p_center, q_center) = contact.elastic_tractions(center);
-    // Per sample: the change of the elastic tractions per unit lambda. The
-    // tractions are affine in the load, so a difference is exact.
-    let rates: Vec<(Vec<f64>, Vec<f64>)> = times
-        .iter()
-        .map(|&t| {
-            let (p, q) = contact.elastic_tractions(unit.at(t));
-            let dp = p.iter().zip(&p_center).map(|(a, b)| a - b).collect();
-            let dq = q.iter().zip(&q_center).map(|(a, b)| a - b).collect();
-            (dp, dq)
-        })
-        .collect();
-    let lp = Programme {
-        ops: &ops,
-        friction: material.friction(),
-        p_center,
-        q_center,
-        rates,
-        center,
-    };
-
-    // Most samples of a fine ellipse are slack at the optimum. Solve on a
-    // coarse subset, add the samples the optimum violates, and repeat: the
-    // final optimum satisfies every sample, so it is the optimum of the full
-    // programme, at a fraction of its size.
-    let all: Vec<usize> = (0..times.len()).collect();
-    let mut active: Vec<usize> = all
-        .iter()
-        .copied()
-        .step_by((times.len() / 8).max(1))
-        .collect();
-    let mut iterations = 0;
-    let (slip, load_factor, max_violation) = loop {
-        let (slip, load_factor, its) = lp.solve(&active)?;
-        iterations += its;
-        let violation: Vec<(usize, f64)> = lp
-            .violations(&slip, load_factor)
-            .into_iter()
-            .enumerate()
-            .collect();
-        let max_violation = violation.iter().map(|v| v.1).fold(f64::MIN, f64::max);
-        let missing: Vec<usize> = violation
-            .iter()
-            .filter(|(k, v)| *v > CUT_TOLERANCE && !active.contains(k))
-            .map(|(k, _)| *k)
-            .collect();
-        if missing.is_empty() {
-            break (slip, load_factor, max_violation);
-        }
-        active.extend(missing);
-        active.sort_unstable();
-    };
+    let lp = Programme::new(&contact, &ops, center, times.iter().map(|&t| unit.at(t)));
+    let (slip, load_factor, iterations) = lp.solve_by_row_generation(&lp.reduced_rows())?;
+    if load_factor >= LAMBDA_CAP * (1.0 - 1e-6) {
+        return Err(LimitError::Unbounded);
+    }
+    let max_violation = lp.max_violation(&slip, load_factor);
 
     let lower_bound = if line {
         load_factor
@@ -268,9 +223,19 @@ pub fn sample_convergence(
     Ok(rows)
 }
 
-/// A sample that violates the friction law by more than this (in units of
-/// `p0`) at the optimum of the subset joins the programme.
-const CUT_TOLERANCE: f64 = 1e-9;
+/// A row that the optimum of a subset violates by more than this (in units
+/// of `p0`) joins the programme.
+const CUT_TOLERANCE: f64 = 1e-10;
+
+/// One row of the programme: the friction inequality
+/// `s q_j - f p_j <= 0` at node `j` with sign `s` (`sign` 0 for `+1`, 1 for
+/// `-1`), whose load term is `load_factor * rate`.
+#[derive(Debug, Clone, Copy)]
+struct Row {
+    node: usize,
+    sign: usize,
+    rate: f64,
+}
 
 /// The `lambda_2` programme's data.
 struct Programme<'a> {
@@ -279,22 +244,100 @@ struct Programme<'a> {
     center: LoadPoint,
     p_center: Vec<f64>,
     q_center: Vec<f64>,
-    /// Elastic traction change per unit lambda at each sample: `(dp, dq)`.
-    rates: Vec<(Vec<f64>, Vec<f64>)>,
+    /// Per load point `k`, node `j` and sign `s`: `s dq_j - f dp_j`, the
+    /// change of `s q_j - f p_j` per unit lambda.
+    rates: Vec<Vec<[f64; 2]>>,
 }
 
-impl Programme<'_> {
-    /// The optimum `(g, lambda)` with the friction law imposed at the
-    /// samples `subset`, and the interior-point iterations taken.
-    fn solve(&self, subset: &[usize]) -> Result<(Vec<f64>, f64, u32), LimitError> {
+const SIGNS: [f64; 2] = [1.0, -1.0];
+
+impl<'a> Programme<'a> {
+    /// The programme for the cycle centred on `center` whose load points
+    /// at `lambda = 1` are `points`.
+    fn new(
+        contact: &Contact,
+        ops: &'a Operators,
+        center: LoadPoint,
+        points: impl Iterator<Item = LoadPoint>,
+    ) -> Self {
+        let friction = contact.material().friction();
+        let (p_center, q_center) = contact.elastic_tractions(center);
+        // The tractions are affine in the load, so a difference is exact.
+        let rates = points
+            .map(|point| {
+                let (p, q) = contact.elastic_tractions(point);
+                (0..p.len())
+                    .map(|j| {
+                        let dp = p[j] - p_center[j];
+                        let dq = q[j] - q_center[j];
+                        SIGNS.map(|s| s * dq - friction * dp)
+                    })
+                    .collect()
+            })
+            .collect();
+        Self {
+            ops,
+            friction,
+            center,
+            p_center,
+            q_center,
+            rates,
+        }
+    }
+
+    /// Every row: each node and sign at each load point (`2 N M` rows).
+    #[cfg(test)]
+    fn all_rows(&self) -> Vec<Row> {
+        self.rates
+            .iter()
+            .flat_map(|r| {
+                r.iter().enumerate().flat_map(|(node, a)| {
+                    (0..2).map(move |sign| Row {
+                        node,
+                        sign,
+                        rate: a[sign],
+                    })
+                })
+            })
+            .collect()
+    }
+
+    /// The rows that can bind: per node and sign, the load point with the
+    /// largest rate. A row differs from its node and sign's other rows
+    /// only in its load term `lambda * rate`, and `lambda >= 0`, so the
+    /// row with the largest rate implies the others: these `2 N` rows
+    /// define the same feasible set, and the same optimum, as all `2 N M`.
+    fn reduced_rows(&self) -> Vec<Row> {
+        let n = self.p_center.len();
+        (0..n)
+            .flat_map(|node| {
+                (0..2).map(move |sign| Row {
+                    node,
+                    sign,
+                    rate: self
+                        .rates
+                        .iter()
+                        .map(|r| r[node][sign])
+                        .fold(f64::NEG_INFINITY, f64::max),
+                })
+            })
+            .collect()
+    }
+
+    /// The optimum `(g, lambda)` with the friction law imposed on `rows`,
+    /// and the interior-point iterations taken.
+    fn solve(&self, rows: &[Row]) -> Result<(Vec<f64>, f64, u32), LimitError> {
         let n = self.p_center.len();
         let f = self.friction;
-        // Rows: 0 is `mean g = 0`; then for each sample, node j and sign s
-        // the friction inequality; then `-lambda <= 0` and `lambda <= cap`.
-        let m_friction = 2 * n * subset.len();
-        let rows = 1 + m_friction + 2;
-        let row_of = |k: usize, j: usize, s: usize| 1 + (k * n + j) * 2 + s;
-        let signs = [1.0, -1.0];
+        // Row 0 is `mean g = 0`; then the friction rows; then
+        // `-lambda <= 0` and `lambda <= cap`.
+        let m_friction = rows.len();
+        let m = 1 + m_friction + 2;
+        // By node: the rows of node j and their signs, for the columns.
+        let mut by_node: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+        for (r, row) in rows.iter().enumerate() {
+            by_node[row.node].push((1 + r, SIGNS[row.sign]));
+        }
 
         let mut colptr = Vec::with_capacity(n + 2);
         let mut rowval = Vec::new();
@@ -304,48 +347,44 @@ impl Programme<'_> {
             rowval.push(0);
             nzval.push(1.0 / n as f64);
             let (h, d) = (self.ops.hilbert_col(col), self.ops.abs_derivative_col(col));
-            for k in 0..subset.len() {
-                for j in 0..n {
-                    for (si, s) in signs.iter().enumerate() {
-                        // s q - f p with q = -|D| g, p = H g
-                        let v = -s * d[j] - f * h[j];
-                        if v != 0.0 {
-                            rowval.push(row_of(k, j, si));
-                            nzval.push(v);
-                        }
+            // Rows are pushed in increasing order: node by node, and a
+            // node's rows are in the order of `rows`.
+            let mut entries: Vec<(usize, f64)> = Vec::new();
+            for (j, node_rows) in by_node.iter().enumerate() {
+                for &(r, s) in node_rows {
+                    // s q - f p with q = -|D| g, p = H g
+                    let v = -s * d[j] - f * h[j];
+                    if v != 0.0 {
+                        entries.push((r, v));
                     }
                 }
+            }
+            entries.sort_unstable_by_key(|e| e.0);
+            for (r, v) in entries {
+                rowval.push(r);
+                nzval.push(v);
             }
             colptr.push(nzval.len());
         }
-        for (k, &sample) in subset.iter().enumerate() {
-            let (dp, dq) = &self.rates[sample];
-            for j in 0..n {
-                for (si, s) in signs.iter().enumerate() {
-                    let v = s * dq[j] - f * dp[j];
-                    if v != 0.0 {
-                        rowval.push(row_of(k, j, si));
-                        nzval.push(v);
-                    }
-                }
+        for (r, row) in rows.iter().enumerate() {
+            if row.rate != 0.0 {
+                rowval.push(1 + r);
+                nzval.push(row.rate);
             }
         }
-        rowval.push(rows - 2);
+        rowval.push(m - 2);
         nzval.push(-1.0);
-        rowval.push(rows - 1);
+        rowval.push(m - 1);
         nzval.push(1.0);
         colptr.push(nzval.len());
-        let a = CscMatrix::new(rows, n + 1, colptr, rowval, nzval);
+        let a = CscMatrix::new(m, n + 1, colptr, rowval, nzval);
 
-        let mut b = vec![0.0; rows];
-        for k in 0..subset.len() {
-            for j in 0..n {
-                for (si, s) in signs.iter().enumerate() {
-                    b[row_of(k, j, si)] = f * self.p_center[j] - s * self.q_center[j];
-                }
-            }
+        let mut b = vec![0.0; m];
+        for (r, row) in rows.iter().enumerate() {
+            let (j, s) = (row.node, SIGNS[row.sign]);
+            b[1 + r] = f * self.p_center[j] - s * self.q_center[j];
         }
-        b[rows - 1] = LAMBDA_CAP;
+        b[m - 1] = LAMBDA_CAP;
 
         let p = CscMatrix::<f64>::zeros((n + 1, n + 1));
         let mut c = vec![0.0; n + 1];
@@ -387,31 +426,89 @@ impl Programme<'_> {
                 status: "non-finite optimum".into(),
             });
         }
-        if load_factor >= LAMBDA_CAP * (1.0 - 1e-6) {
-            return Err(LimitError::Unbounded);
-        }
         let mean = sol.x[..n].iter().sum::<f64>() / n as f64;
         let slip = sol.x[..n].iter().map(|g| g - mean).collect();
         Ok((slip, load_factor, sol.iterations))
     }
 
-    /// At every sample, the largest `|q| - f p` over the nodes at
+    /// The optimum on `rows`, found by row generation: solve on the rows
+    /// that fail first as `lambda` grows from 0 with no slip, add the rows
+    /// the optimum violates, and repeat. An optimum that violates none of
+    /// `rows` is the optimum over all of them (a subset's optimum bounds
+    /// the whole's from above). The programme's dense columns make its
+    /// cost grow as `N k^2` in the rows `k` it holds, so starting small
+    /// pays (model.md section 7.3).
+    fn solve_by_row_generation(&self, rows: &[Row]) -> Result<(Vec<f64>, f64, u32), LimitError> {
+        let f = self.friction;
+        let slack =
+            |row: &Row| f * self.p_center[row.node] - SIGNS[row.sign] * self.q_center[row.node];
+        // The load factor at which each row fails without slip.
+        let mut order: Vec<(f64, usize)> = rows
+            .iter()
+            .enumerate()
+            .map(|(r, row)| {
+                let at = if row.rate > 0.0 {
+                    slack(row) / row.rate
+                } else {
+                    f64::INFINITY
+                };
+                (at, r)
+            })
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut active = vec![false; rows.len()];
+        for &(_, r) in order.iter().take((rows.len() / 4).max(8)) {
+            active[r] = true;
+        }
+        let mut iterations = 0;
+        loop {
+            let subset: Vec<Row> = rows
+                .iter()
+                .zip(&active)
+                .filter(|(_, a)| **a)
+                .map(|(r, _)| *r)
+                .collect();
+            let (slip, load_factor, its) = self.solve(&subset)?;
+            iterations += its;
+            let hg = self.ops.residual_pressure(&slip);
+            let dg = self.ops.residual_shear(&slip);
+            let mut added = 0;
+            for (r, row) in rows.iter().enumerate() {
+                if active[r] {
+                    continue;
+                }
+                let j = row.node;
+                let s = SIGNS[row.sign];
+                let v = s * (self.q_center[j] + dg[j]) - f * (self.p_center[j] + hg[j])
+                    + load_factor * row.rate;
+                if v > CUT_TOLERANCE {
+                    active[r] = true;
+                    added += 1;
+                }
+            }
+            // Each round adds a row, so this ends, at the latest with all.
+            if added == 0 {
+                return Ok((slip, load_factor, iterations));
+            }
+        }
+    }
+
+    /// The largest `|q| - f p` over the nodes and load points at
     /// `lambda` with the locked-in slip `g`.
-    fn violations(&self, slip: &[f64], load_factor: f64) -> Vec<f64> {
+    fn max_violation(&self, slip: &[f64], load_factor: f64) -> f64 {
         let hg = self.ops.residual_pressure(slip);
         let dg = self.ops.residual_shear(slip);
-        self.rates
-            .iter()
-            .map(|(dp, dq)| {
-                (0..slip.len())
-                    .map(|j| {
-                        let p = self.p_center[j] + load_factor * dp[j] + hg[j];
-                        let q = self.q_center[j] + load_factor * dq[j] + dg[j];
-                        q.abs() - self.friction * p
-                    })
-                    .fold(f64::MIN, f64::max)
-            })
-            .collect()
+        let mut worst = f64::MIN;
+        for r in &self.rates {
+            for (j, a) in r.iter().enumerate() {
+                let p = self.p_center[j] + hg[j];
+                let q = self.q_center[j] + dg[j];
+                for (sign, s) in SIGNS.iter().enumerate() {
+                    worst = worst.max(s * q - self.friction * p + load_factor * a[sign]);
+                }
+            }
+        }
+        worst
     }
 }
 
@@ -503,6 +600,37 @@ mod tests {
         assert!(!coarse.line);
         assert!(fine.load_factor <= coarse.load_factor + 1e-6);
         assert!(fine.load_factor >= coarse.lower_bound - 1e-6);
+    }
+
+    /// The `2 N` rows that can bind give the optimum of all `2 N M` rows
+    /// (the programme as first stated), on several cycles and grids.
+    #[test]
+    fn reduced_rows_give_the_full_programme_optimum() {
+        let material = Material::paper();
+        let center = LoadPoint::new(PI, 0.75 * PI);
+        for (nodes, phase, samples) in [
+            (16, 0.0, 2),
+            (16, 0.3 * PI, 12),
+            (32, 0.5 * PI, 16),
+            (24, 0.9 * PI, 9),
+        ] {
+            let unit = Cycle::new(center, 1.0, 0.625, phase).unwrap();
+            let times: Vec<f64> = (0..samples)
+                .map(|k| 0.5 * PI + 2.0 * PI * k as f64 / samples as f64)
+                .collect();
+            let ops = Arc::new(Operators::new(nodes));
+            let contact = Contact::new(material, Arc::clone(&ops));
+            let lp = Programme::new(&contact, &ops, center, times.iter().map(|&t| unit.at(t)));
+            let (_, full, _) = lp.solve(&lp.all_rows()).unwrap();
+            let (_, reduced_all, _) = lp.solve(&lp.reduced_rows()).unwrap();
+            assert!((full - reduced_all).abs() <= 1e-9 * full);
+            let (slip, reduced, _) = lp.solve_by_row_generation(&lp.reduced_rows()).unwrap();
+            assert!(
+                (full - reduced).abs() <= 1e-9 * full,
+                "N = {nodes}, phi = {phase}: {full} against {reduced}"
+            );
+            assert!(lp.max_violation(&slip, reduced) < 1e-8);
+        }
     }
 
     #[test]

@@ -10,6 +10,7 @@ pub mod limit_curve;
 mod meet;
 pub mod memory;
 pub mod ordered;
+pub mod profile;
 pub mod regime;
 pub mod slip_map;
 pub mod sweep;

@@ -9,4 +9,5 @@ pub mod design;
 pub mod output;
 pub mod parse;
 pub mod preset;
+pub mod profile;
 pub mod read;
