@@ -28,8 +28,8 @@ use shakedown::figure::data::{data_lines, parse_sweep_csv};
 use shakedown::figure::dissipation::memory_window;
 use shakedown::figure::FigureError;
 use shakedown::figure::{
-    write_svg_png, DissipationPlot, Drawing, MemoryPlot, RegimePlot, SlipMapPlot, SweepPoint,
-    TimeOrigin,
+    write_svg_png, DissipationPlot, Drawing, FigureStyle, MemoryPlot, RegimePlot, SlipMapPlot,
+    SweepPoint, TimeOrigin,
 };
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::io::preset::{FigureKind, FigureSpec, Preset};
@@ -72,6 +72,12 @@ pub struct FigureArgs {
         allow_hyphen_values = true
     )]
     pub time_origin: String,
+    /// Where the figure goes: paper-1col (90 mm wide, 600 dpi), paper-2col (190 mm, 600 dpi) or slide (16:9, 1920 x 1080); sets the size, fonts and line widths.
+    #[arg(long, value_name = "STYLE", default_value = "paper-2col")]
+    pub style: String,
+    /// Draw the caption's title on the figure (for slides); by default it is only written beside the figure, as NAME.caption.txt.
+    #[arg(long)]
+    pub title: bool,
     #[command(flatten)]
     pub lists: ListArgs,
     #[command(flatten)]
@@ -84,11 +90,21 @@ fn write(path: &Path, text: &str) -> Result<()> {
 }
 
 /// The files a figure may write, by suffix.
-const SUFFIXES: [&str; 5] = [".csv", "_limit.csv", "_load.csv", ".svg", ".png"];
+const SUFFIXES: [&str; 6] = [
+    ".csv",
+    "_limit.csv",
+    "_load.csv",
+    ".svg",
+    ".png",
+    ".caption.txt",
+];
 
 /// Draw the plot into temporary files beside `svg` and `png`, then rename
 /// them into place: an interrupted or failed drawing leaves the old ones.
 fn write_plot<D: Drawing>(plot: &D, svg: &Path, png: &Path) -> Result<()> {
+    // The caption a journal prints under the figure, beside it.
+    let caption = svg.with_extension("caption.txt");
+    write(&caption, &(plot.caption() + "\n"))?;
     // The backends choose the format by extension: keep it last.
     let temp = |p: &Path| {
         let name = p.file_name().map(|n| n.to_string_lossy().into_owned());
@@ -237,6 +253,10 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             out_dir.display()
         )))
     })?;
+    let style: FigureStyle = args
+        .style
+        .parse()
+        .map_err(|e| anyhow!(InputError(format!("--style {}: {e}", args.style))))?;
     let origin: TimeOrigin = args.time_origin.parse().map_err(|e| {
         anyhow!(InputError(format!(
             "--time-origin {}: {e}: expected auto, 0 or an angle",
@@ -304,6 +324,8 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                 ratchetting: fig.ratchetting,
                 lines: fig.lines,
                 title,
+                show_title: args.title,
+                style,
                 limit: limit.as_ref().map(|l| l.load_factor),
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
@@ -371,6 +393,8 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                 map: &map,
                 limit: &curve,
                 title: format!("{title}, transient {}", spec.initials()[0].name()),
+                show_title: args.title,
+                style,
                 paper_lines: true,
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
@@ -408,6 +432,8 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             let plot = MemoryPlot {
                 points: &points,
                 title,
+                show_title: args.title,
+                style,
                 limit: limit.as_ref().map(|l| l.load_factor),
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
@@ -430,6 +456,8 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             let plot = SlipMapPlot {
                 map: &map,
                 title,
+                show_title: args.title,
+                style,
                 origin,
             };
             outln!(
@@ -441,6 +469,7 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     }
     written.push(file(".svg"));
     written.push(file(".png"));
+    written.push(file(".caption.txt"));
     for w in &written {
         outln!("wrote {}", w.display());
     }
