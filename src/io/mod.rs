@@ -5,7 +5,9 @@
 
 pub mod batch;
 pub mod csv;
+pub mod hash;
 pub mod output;
 pub mod parse;
 pub mod preset;
 pub mod read;
+pub mod sweep_csv;
