@@ -95,7 +95,7 @@ wait_for 'Load plane' 5 || fail "Esc did not close the help"
 tm send-keys -t "$session" Space
 sleep 0.3
 tm send-keys -t "$session" , , ,
-wait_for ' history .*#[0-9]+' 5 || fail ", did not scrub back into history"
+wait_for ' history (cycle|transient) ' 5 || fail ", did not scrub back into history"
 echo "tmux_tui: , scrubs back into history"
 tm send-keys -t "$session" End
 

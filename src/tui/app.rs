@@ -950,6 +950,16 @@ impl App {
                 if self.history.newest().is_some_and(|r| r.increment == i) {
                     self.cursor = None;
                 }
+                if self.log_open {
+                    // The log follows: its selection is the event shown.
+                    if let Some(k) = self
+                        .log_entries()
+                        .iter()
+                        .position(|e| e.increment == i && e.text == text)
+                    {
+                        self.log_selected = k;
+                    }
+                }
                 self.notice = Some(format!("at {text}"));
             }
             None => {
@@ -1051,10 +1061,47 @@ impl App {
                         self.case.initial = self.paths[i].clone();
                         self.restart(&format!("path {}", self.case.initial.name()));
                     }
-                    None => self.notice = Some(format!("no initial path {value}")),
+                    // Not a named path: the user's own, `X1,Y1;X2,Y2`.
+                    None if value.contains(',') => self.custom_path(value),
+                    None => {
+                        self.notice = Some(format!(
+                            "no initial path {value}: a name, or points X1,Y1;X2,Y2"
+                        ))
+                    }
                 }
             }
             _ => self.notice = Some(format!("unknown name {name}: lambda, phi or path")),
+        }
+    }
+
+    /// The user's own transient `O -> points -> A`, checked as `run --path`
+    /// checks it, added to the paths `[` and `]` go through.
+    fn custom_path(&mut self, value: &str) {
+        let points = match crate::io::parse::parse_points(value) {
+            Ok(p) => p,
+            Err(e) => {
+                self.notice = Some(format!("path = X1,Y1;X2,Y2: {e}"));
+                return;
+            }
+        };
+        let points = points
+            .into_iter()
+            .map(|(x, y)| crate::model::LoadPoint::new(x, y))
+            .collect();
+        match Initial::custom_for(points, &self.case.material) {
+            Ok(initial) => {
+                let i = match self.paths.iter().position(|p| *p == initial) {
+                    Some(i) => i,
+                    None => {
+                        self.paths.push(initial.clone());
+                        self.paths.len() - 1
+                    }
+                };
+                self.path_index = i;
+                self.case.initial = initial;
+                self.restart(&format!("path {}", self.case.initial.name()));
+            }
+            Err(e) => self.notice = Some(format!("path = X1,Y1;X2,Y2: {e}")),
         }
     }
 

@@ -180,6 +180,8 @@ pub enum Scope {
     All,
     /// The stepping view only.
     Stepping,
+    /// The stepping view, and the event log over it.
+    SteppingAndLog,
     /// The sweep view only.
     Sweep,
     /// The event log only.
@@ -195,6 +197,7 @@ impl Scope {
             (self, mode),
             (Scope::All, _)
                 | (Scope::Stepping, Mode::Stepping)
+                | (Scope::SteppingAndLog, Mode::Stepping | Mode::Log)
                 | (Scope::Sweep, Mode::Sweep)
                 | (Scope::Log, Mode::Log)
                 | (Scope::Regime, Mode::Regime)
@@ -419,14 +422,14 @@ pub const BINDINGS: &[Binding] = &[
         label: "{",
         action: Action::PrevEvent,
         help: "previous event of the kind",
-        scope: Scope::Stepping,
+        scope: Scope::SteppingAndLog,
     },
     Binding {
         keys: &[ch('}')],
         label: "}",
         action: Action::NextEvent,
         help: "next event of the kind",
-        scope: Scope::Stepping,
+        scope: Scope::SteppingAndLog,
     },
     Binding {
         keys: &[ch('k')],
@@ -768,6 +771,68 @@ impl Key {
     }
 }
 
+/// One item of the footer: the keys as shown, what they do in a word or
+/// two, and the actions they stand for (each bound in the footer's mode).
+pub type FooterItem = (&'static str, &'static str, &'static [Action]);
+
+/// The footer of each mode (as gitui shows one): the keys a user reaches
+/// for first; `?` lists every key.
+pub fn footer(mode: Mode) -> &'static [FooterItem] {
+    use Action as A;
+    match mode {
+        Mode::Stepping => &[
+            ("Space", "run", &[A::RunPause]),
+            ("n", "step", &[A::StepOne]),
+            ("c", "cycle", &[A::ToCycleEnd]),
+            ("s", "steady", &[A::ToSteady]),
+            ("e", "pause at events", &[A::PauseOnEvents]),
+            ("{ }", "events", &[A::PrevEvent, A::NextEvent]),
+            ("k m", "kind size", &[A::EventKind, A::MinNodes]),
+            (", .", "history", &[A::Back1, A::Forward1]),
+            ("p", "pin", &[A::Pin]),
+            ("L", "log", &[A::ToggleLog]),
+            ("g", "regime", &[A::ToggleRegime]),
+            (":", "set", &[A::Entry]),
+            ("v", "sweep", &[A::ToggleView]),
+            ("?", "all keys", &[A::Help]),
+            ("q", "quit", &[A::Quit]),
+        ],
+        Mode::Log => &[
+            ("↑↓", "select", &[A::LogUp, A::LogDown]),
+            ("PgUp PgDn", "page", &[A::LogPageUp, A::LogPageDown]),
+            ("Enter", "go there", &[A::LogGo]),
+            ("{ }", "events", &[A::PrevEvent, A::NextEvent]),
+            ("k m", "kind size", &[A::EventKind, A::MinNodes]),
+            ("Esc", "close", &[A::Back]),
+            ("?", "all keys", &[A::Help]),
+            ("q", "quit", &[A::Quit]),
+        ],
+        Mode::Sweep => &[
+            ("Esc", "back", &[A::Back]),
+            ("←→", "x", &[A::SweepPrevX, A::SweepNextX]),
+            ("↑↓", "run", &[A::SweepPrevRun, A::SweepNextRun]),
+            ("PgUp PgDn", "ten x", &[A::SweepPageUp, A::SweepPageDown]),
+            ("Enter", "open", &[A::OpenRun]),
+            ("w", "log W", &[A::SweepLogW]),
+            ("s", "save", &[A::SweepSave]),
+            ("r", "rerun", &[A::RestartSweep]),
+            ("g", "regime", &[A::ToggleRegime]),
+            ("?", "all keys", &[A::Help]),
+            ("q", "quit", &[A::Quit]),
+        ],
+        Mode::Regime => &[
+            ("Esc g", "back", &[A::Back, A::ToggleRegime]),
+            ("←→", "lambda", &[A::RegimePrevLambda, A::RegimeNextLambda]),
+            ("↑↓", "phi", &[A::RegimePhaseDown, A::RegimePhaseUp]),
+            ("Enter", "open", &[A::RegimeOpen]),
+            ("[ ]", "path", &[A::RegimePrevPath, A::RegimeNextPath]),
+            ("r", "rerun", &[A::RegimeRestart]),
+            ("?", "all keys", &[A::Help]),
+            ("q", "quit", &[A::Quit]),
+        ],
+    }
+}
+
 /// The bindings of `mode`, in table order: what the help lists.
 pub fn bindings_for(mode: Mode) -> impl Iterator<Item = &'static Binding> {
     BINDINGS.iter().filter(move |b| b.scope.includes(mode))
@@ -838,6 +903,20 @@ mod tests {
         assert_eq!(action_for(&esc, Mode::Sweep), Some(Action::Back));
         let c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
         assert_eq!(action_for(&c, Mode::Stepping), Some(Action::Interrupt));
+    }
+
+    #[test]
+    fn the_footer_shows_only_keys_that_work_in_its_mode() {
+        for mode in MODES {
+            for (keys, _, actions) in footer(mode) {
+                for a in *actions {
+                    assert!(
+                        bindings_for(mode).any(|b| b.action == *a),
+                        "{keys}: {a:?} in {mode:?}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -1012,3 +1012,63 @@ fn history_is_never_called_live() {
     assert!(!text.contains("live"), "{text}");
     assert!(!text.contains("(#"), "one counter: {text}");
 }
+
+/// The footer shows the keys of the view in use (as gitui does): at 200
+/// columns the stepping view's `e`, `{ }`, `k m`, `p` and `g` are all there,
+/// and with the log open, the log's own.
+#[test]
+fn the_footer_shows_the_keys_of_the_view() {
+    let mut app = app();
+    let draw = |app: &App, w: u16, h: u16| {
+        let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
+        terminal.draw(|f| ui::draw(f, app)).unwrap();
+        terminal.backend().to_string()
+    };
+    let text = draw(&app, 80, 24);
+    assert!(text.contains("? all keys"), "{text}");
+    let text = draw(&app, 200, 60);
+    for word in [
+        "pause at events",
+        "{ } events",
+        "k m kind size",
+        "p pin",
+        "g regime",
+    ] {
+        assert!(text.contains(word), "{word}: {text}");
+    }
+    app.advance(400);
+    app.apply(Action::ToggleLog);
+    let text = draw(&app, 200, 60);
+    assert!(text.contains("Enter go there"), "{text}");
+    // `{` and `}` work with the log open, and the log follows.
+    let before = app.log_selected();
+    app.handle_key(KeyEvent::new(KeyCode::Char('{'), KeyModifiers::NONE));
+    assert!(app.cursor().is_some() || app.log_selected() != before);
+}
+
+/// `:` takes a path of the user's own, `path = X1,Y1;X2,Y2`, and refuses
+/// one that leaves the allowed region with a line saying why.
+#[test]
+fn the_prompt_takes_a_custom_path() {
+    let mut app = app();
+    let type_in = |app: &mut App, text: &str| {
+        app.apply(Action::Entry);
+        for c in text.chars() {
+            key(app, KeyCode::Char(c));
+        }
+        key(app, KeyCode::Enter);
+    };
+    type_in(&mut app, "path = 1,1;2,-1");
+    assert!(matches!(app.case().initial, shakedown::Initial::Custom(ref p) if p.len() == 2));
+    assert_restarted_on_path(&app);
+    type_in(&mut app, "path = 1,9");
+    let notice = app.notice().unwrap_or_default().to_string();
+    assert!(notice.starts_with("path = X1,Y1;X2,Y2"), "{notice}");
+    assert!(matches!(app.case().initial, shakedown::Initial::Custom(ref p) if p.len() == 2));
+}
+
+fn assert_restarted_on_path(app: &App) {
+    assert_eq!(app.increments(), 0);
+    let notice = app.notice().unwrap_or_default();
+    assert!(notice.starts_with("path "), "notice: {notice}");
+}

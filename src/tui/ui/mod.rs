@@ -60,7 +60,7 @@ fn draw_screen(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         frame.render_widget(status::StatusLines { app, theme }, areas.status);
         if app.log_visible() {
             let [body, _] =
-                Layout::vertical([Constraint::Fill(1), Constraint::Length(3)]).areas(area);
+                Layout::vertical([Constraint::Fill(1), Constraint::Length(4)]).areas(area);
             frame.render_widget(event_log::EventLog { app, theme }, body);
         }
     }
@@ -171,7 +171,8 @@ pub struct Areas {
     pub slip: Rect,
     /// The dissipation `W` per cycle, bottom right.
     pub dissipation: Rect,
-    /// The three status lines at the foot of the screen.
+    /// The three status lines and the footer of keys at the foot of the
+    /// screen.
     pub status: Rect,
 }
 
@@ -181,7 +182,7 @@ impl Areas {
     /// screen (a cell is about twice as tall as wide) so the diamond looks
     /// like one; the slip map takes the rest, because its width is time.
     pub fn new(area: Rect) -> Self {
-        let status_height = 3;
+        let status_height = 4;
         let [body, status] =
             Layout::vertical([Constraint::Fill(1), Constraint::Length(status_height)]).areas(area);
         let top_height = (body.height * 4).div_ceil(7).max(11);
@@ -401,6 +402,30 @@ const ASCII_BORDER: border::Set = border::Set {
     horizontal_top: "-",
     horizontal_bottom: "-",
 };
+
+/// The footer of `mode`'s keys (as gitui shows one), as many as fit in
+/// `width`; `?` (every key) and `q` always stay.
+pub fn footer_line<'a>(mode: crate::tui::keys::Mode, width: usize, theme: &Theme) -> Line<'a> {
+    let items = crate::tui::keys::footer(mode);
+    let item_width =
+        |(k, w, _): &crate::tui::keys::FooterItem| k.chars().count() + w.chars().count() + 3;
+    let mut keep: Vec<&crate::tui::keys::FooterItem> = items.iter().collect();
+    // Drop from the end, but keep the last two (help and quit).
+    while keep.len() > 2 && keep.iter().map(|i| item_width(i)).sum::<usize>() + 1 > width {
+        keep.remove(keep.len() - 3);
+    }
+    let mut spans = vec![Span::raw(" ")];
+    for (k, w, _) in keep {
+        spans.push(Span::styled(
+            k.to_string(),
+            theme
+                .label()
+                .add_modifier(ratatui::style::Modifier::REVERSED),
+        ));
+        spans.push(Span::styled(format!(" {w}  "), theme.label()));
+    }
+    Line::from(fit_spans(spans, width))
+}
 
 /// A one-glyph marker.
 pub fn glyph(s: &str) -> Marker {

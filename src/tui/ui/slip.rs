@@ -165,7 +165,6 @@ impl Widget for Slip<'_> {
 /// docs). The `theta` axis runs along the arc of the stuck nodes, through
 /// `theta = pi` when the arc wraps.
 fn render_locked(locked: &LockedSlip, n: usize, theme: &Theme, area: Rect, buf: &mut Buffer) {
-    let title = " Locked-in slip: what the stuck nodes gathered ";
     let range = ThetaRange::of_nodes(&locked.nodes, n);
     let from = range.map_or(-1.0, |r| r.from / PI);
     // theta / pi along the arc from its first node, past 1 when it wraps.
@@ -234,16 +233,28 @@ fn render_locked(locked: &LockedSlip, n: usize, theme: &Theme, area: Rect, buf: 
                 ),
                 Span::styled(format!("{} ", format_sci(locked.max)), theme.value()),
             ]),
+            Line::from(vec![
+                Span::styled(format!(" {STUCK_GLYPH} max "), theme.newly_stuck()),
+                Span::styled(format!("{} ", format_sci(locked.max)), theme.value()),
+            ]),
         ],
         width,
     );
-    let top_right = Line::from(Span::styled(
-        format!(" {} stuck, {theta} {range_text} ", locked.nodes.len()),
-        theme.label(),
-    ))
-    .right_aligned();
+    let stuck = locked.nodes.len();
+    let title = super::first_fitting(
+        vec![
+            Line::from(format!(
+                " Locked-in slip: episode of the {stuck} stuck, {theta} {range_text} "
+            )),
+            Line::from(format!(
+                " Episode slip, {stuck} stuck, {theta} {range_text} "
+            )),
+            Line::from(format!(" Episode slip, {stuck} stuck ")),
+        ],
+        width,
+    );
     let chart = Chart::new(datasets)
-        .block(theme.panel(title).title(top_right).title_bottom(bottom))
+        .block(theme.panel(title).title_bottom(bottom))
         .legend_position(None)
         .x_axis(
             Axis::default()

@@ -3,7 +3,7 @@
 
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
-use ratatui::style::{Color, Modifier};
+use ratatui::style::Color;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Widget};
 
@@ -248,19 +248,7 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
     }
     let line3 = Line::from(spans);
 
-    let first_width = line1.width();
-    Paragraph::new(vec![line1, line2, line3]).render(area, buf);
-    let long = " L log  v sweep  ? help  q quit ";
-    let room = area.width as usize >= first_width + long.chars().count();
-    let hint = if room { long } else { " ? help  q quit " };
-    let w = hint.chars().count() as u16;
-    if area.width > w {
-        let rect = Rect::new(area.x + area.width - w, area.y, w, 1);
-        Paragraph::new(Span::styled(
-            hint,
-            theme.label().add_modifier(Modifier::REVERSED),
-        ))
-        .render(rect, buf);
-    }
+    let footer = super::footer_line(app.mode(), width, theme);
+    Paragraph::new(vec![line1, line2, line3, footer]).render(area, buf);
     let _ = format_sci;
 }
