@@ -5,8 +5,9 @@
 //!
 //! The colours are the dominant colours of the paper's markers: shakedown
 //! a light grey (a black circle on white), cyclic slip red, ratchetting
-//! blue (with red when non-monotonic), the terminal events a dark grey and
-//! a run that did not converge amber. [`Shading`] darkens a cell with its
+//! blue (with red when non-monotonic), gross slip a dark grey, separation
+//! brown, a run that did not converge amber and one that failed
+//! numerically magenta. [`Shading`] darkens a cell with its
 //! dissipation `W` on a log scale.
 
 use crate::analysis::regime::{RegimeCell, RegimeMap};
@@ -26,14 +27,17 @@ impl Rgb {
 }
 
 /// The fill colour of a regime-map cell in `state` (`None`: the run failed
-/// numerically, drawn with the terminal events).
+/// numerically). Gross slip, separation and a failure each have their own
+/// colour: a grey, a brown and a magenta no state uses.
 pub fn map_colour(state: Option<SteadyState>) -> Rgb {
     match state {
         Some(SteadyState::Shakedown) => Rgb(235, 235, 235),
         Some(SteadyState::CyclicSlip) => Rgb(240, 130, 110),
         Some(SteadyState::RatchettingMonotonic) => Rgb(110, 160, 240),
         Some(SteadyState::RatchettingNonMonotonic) => Rgb(175, 125, 215),
-        Some(SteadyState::GrossSlip | SteadyState::Separation) | None => Rgb(110, 110, 110),
+        Some(SteadyState::GrossSlip) => Rgb(110, 110, 110),
+        Some(SteadyState::Separation) => Rgb(175, 135, 80),
+        None => Rgb(200, 60, 175),
         Some(SteadyState::NotConverged) => Rgb(250, 210, 120),
     }
 }
@@ -113,10 +117,12 @@ mod tests {
         assert_eq!(s.of_cell(&map.cell(2, 0).unwrap()), 1.0);
         let dark = s.colour(&map.cell(2, 0).unwrap());
         assert!(dark.luminance() < map_colour(Some(SteadyState::CyclicSlip)).luminance());
-        assert_eq!(
+        // Gross slip, separation and a failure each have their own look.
+        let ends = [
             map_colour(None),
             map_colour(Some(SteadyState::GrossSlip)),
-            "a failure is drawn with the terminal events"
-        );
+            map_colour(Some(SteadyState::Separation)),
+        ];
+        assert!(ends[0] != ends[1] && ends[1] != ends[2] && ends[0] != ends[2]);
     }
 }

@@ -82,7 +82,7 @@ pub struct CaseParams {
     /// Increments per cycle (16 to 100000). Default 400.
     pub steps: usize,
     /// Cycles run at most before the run is reported not converged
-    /// (1 to 100000; model.md section 6.1). Default 200.
+    /// (1 to 100000; model.md section 6.1). Default 2000.
     pub max_cycles: usize,
     /// Prove shakedown by a safe state before the first cycle without slip
     /// (model.md section 6.4). Default on; off, asymptotic shakedown is run

@@ -3,6 +3,8 @@
 //! `lambda_3`.
 
 pub mod case;
+pub mod design;
+pub mod episodes;
 pub mod limit;
 pub mod limit_curve;
 mod meet;

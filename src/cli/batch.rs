@@ -27,7 +27,7 @@ use anyhow::{anyhow, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use shakedown::analysis::sweep::{Job, Row, SweepSpec, CSV_HEADER};
 use shakedown::io::batch::{resume_point, Interrupt};
-use shakedown::io::csv::{check_preamble, sweep_metadata, sweep_row_key, Metadata};
+use shakedown::io::csv::{check_preamble, sweep_metadata, sweep_row_key_capped, Metadata};
 use shakedown::io::output::{is_nonempty_file, same_file, LockError, OutputLock, WriteError};
 use shakedown::io::read::{read_capped, ReadError};
 
@@ -37,7 +37,9 @@ use super::InputError;
 /// or a folder where the lock cannot be made, is refused (bad input).
 pub fn lock_output(flag: &str, path: &Path) -> Result<OutputLock> {
     OutputLock::acquire(path).map_err(|e| match e {
-        LockError::Busy { .. } => anyhow!(InputError(format!("{flag} {}: {e}", path.display()))),
+        LockError::Busy { .. } | LockError::BusyFile | LockError::NotRegular { .. } => {
+            anyhow!(InputError(format!("{flag} {}: {e}", path.display())))
+        }
         LockError::Io { source, .. } => anyhow!(InputError(format!(
             "{flag} {}: cannot create it: {source}: expected a writable file path",
             path.display()
@@ -53,6 +55,11 @@ pub fn lock_file_output(flag: &str, path: &Path) -> Result<Option<OutputLock>> {
         return Ok(None);
     }
     lock_output(flag, path).map(Some)
+}
+
+/// `--out -` means stdout, as in most tools, rather than a file named `-`.
+pub fn dash_is_stdout(out: Option<PathBuf>) -> Option<PathBuf> {
+    out.filter(|p| p.as_os_str() != "-")
 }
 
 /// Refuse an output that is one of the inputs (`(flag, path)` pairs): it
@@ -102,10 +109,10 @@ static HANDLER: OnceLock<Result<(), String>> = OnceLock::new();
 pub fn ctrl_c() -> Result<&'static Interrupt> {
     let installed = HANDLER.get_or_init(|| {
         ctrlc::set_handler(|| match INTERRUPT.request() {
-            1 => eprintln!(
+            1 => errln!(
                 "\ninterrupted: finishing the runs in progress (Ctrl-C again to abandon them)"
             ),
-            2 => eprintln!("\ninterrupted: abandoning the runs in progress"),
+            2 => errln!("\ninterrupted: abandoning the runs in progress"),
             _ => std::process::exit(i32::from(INTERRUPTED)),
         })
         .map_err(|e| e.to_string())
@@ -135,6 +142,19 @@ pub fn print_stdout(text: &str) -> Result<()> {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Err(anyhow::Error::new(e)),
         Err(e) => Err(anyhow!("cannot write to stdout: {e}")),
+    }
+}
+
+/// Write `text` to stderr. If that fails (`2>/dev/full`), nothing more
+/// can be reported: end the process quietly with status 1.
+pub fn print_stderr(text: &str) {
+    let mut err = io::stderr().lock();
+    if err
+        .write_all(text.as_bytes())
+        .and_then(|()| err.flush())
+        .is_err()
+    {
+        std::process::exit(1);
     }
 }
 
@@ -204,7 +224,7 @@ impl Output {
                 "--resume --out {shown}: cannot resume it: it is not a regular file (a FIFO or device): expected a file"
             ))));
         }
-        let lock = if special || path.is_dir() {
+        let mut lock = if special || path.is_dir() {
             None
         } else {
             Some(lock_output("--out", path)?)
@@ -229,11 +249,21 @@ impl Output {
             ))));
         }
         let (file, kept, has_header) = match existing {
-            None => (
-                File::create(path).map_err(|e| cannot("create it", e))?,
-                0,
-                false,
-            ),
+            None => {
+                // Open without truncating, lock the file itself (a hard link
+                // to a file another process writes is refused), then empty it.
+                let file = OpenOptions::new()
+                    .write(true)
+                    .create(true)
+                    .truncate(false)
+                    .open(path)
+                    .map_err(|e| cannot("create it", e))?;
+                pin(&mut lock, &file, path)?;
+                if !special {
+                    file.set_len(0).map_err(|e| cannot("empty it", e))?;
+                }
+                (file, 0, false)
+            }
             Some(bytes) => {
                 let refuse = |e: &dyn std::fmt::Display| {
                     anyhow!(InputError(format!(
@@ -246,6 +276,7 @@ impl Output {
                     .write(true)
                     .open(path)
                     .map_err(|e| cannot("open it to resume", e))?;
+                pin(&mut lock, &file, path)?;
                 file.set_len(point.bytes as u64)
                     .and_then(|()| file.seek(SeekFrom::End(0)).map(|_| ()))
                     .map_err(|e| cannot("cut off its incomplete last line", e))?;
@@ -307,16 +338,29 @@ impl Output {
     }
 }
 
+/// Lock the output file `file` itself (see [`OutputLock::pin`]).
+fn pin(lock: &mut Option<OutputLock>, file: &File, path: &Path) -> Result<()> {
+    let Some(lock) = lock else { return Ok(()) };
+    let handle = file.try_clone().map_err(|e| {
+        anyhow!(InputError(format!(
+            "--out {}: cannot lock it: {e}",
+            path.display()
+        )))
+    })?;
+    lock.pin(handle)
+        .map_err(|e| anyhow!(InputError(format!("--out {}: {e}", path.display()))))
+}
+
 /// The end of an interrupted batch: say what is done and how to finish.
 pub fn report_interrupt(out: &Output, total: usize) -> ExitCode {
     let done = out.kept + out.written;
     if out.is_file() {
-        eprintln!(
+        errln!(
             "interrupted: {done} of {total} runs are in {}; run the same command with --resume to finish",
             out.describe()
         );
     } else {
-        eprintln!("interrupted: {done} of {total} runs were written");
+        errln!("interrupted: {done} of {total} runs were written");
     }
     ExitCode::from(INTERRUPTED)
 }
@@ -378,11 +422,11 @@ pub fn stream_sweep(
         &meta,
         CSV_HEADER,
         keys,
-        sweep_row_key,
+        sweep_row_key_capped(spec.options().convergence.max_cycles as u64),
     )?;
     let todo = &jobs[out.kept.min(jobs.len())..];
     if out.kept > 0 {
-        eprintln!(
+        errln!(
             "resuming: {} of {} runs are already in {}",
             out.kept,
             jobs.len(),

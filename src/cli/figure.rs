@@ -28,14 +28,14 @@ use shakedown::figure::data::{data_lines, parse_sweep_csv};
 use shakedown::figure::dissipation::memory_window;
 use shakedown::figure::FigureError;
 use shakedown::figure::{
-    write_svg_png, DissipationPlot, Drawing, MemoryPlot, RegimePlot, SlipMapPlot, SweepPoint,
-    TimeOrigin,
+    write_svg_png, DissipationPlot, Drawing, FigureStyle, MemoryPlot, RegimePlot, SlipMapPlot,
+    SweepPoint, TimeOrigin,
 };
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::io::preset::{FigureKind, FigureSpec, Preset};
 
 use shakedown::io::csv::{read_slip_map, slip_csv, slip_map_metadata, sweep_metadata, SlipMapFile};
-use shakedown::io::output::{check_file_stem, is_nonempty_file, temp_path};
+use shakedown::io::output::{check_file_stem, is_nonempty_file, same_file};
 
 use super::batch::{
     lock_output, progress, refuse_input_as_output, report_interrupt, stream_sweep, write_file,
@@ -72,6 +72,12 @@ pub struct FigureArgs {
         allow_hyphen_values = true
     )]
     pub time_origin: String,
+    /// Where the figure goes: paper-1col (90 mm wide, 600 dpi), paper-2col (190 mm, 600 dpi) or slide (16:9, 1920 x 1080); sets the size, fonts and line widths.
+    #[arg(long, value_name = "STYLE", default_value = "paper-2col")]
+    pub style: String,
+    /// Draw the caption's title on the figure (for slides); by default it is only written beside the figure, as NAME.caption.txt.
+    #[arg(long)]
+    pub title: bool,
     #[command(flatten)]
     pub lists: ListArgs,
     #[command(flatten)]
@@ -84,11 +90,21 @@ fn write(path: &Path, text: &str) -> Result<()> {
 }
 
 /// The files a figure may write, by suffix.
-const SUFFIXES: [&str; 5] = [".csv", "_limit.csv", "_load.csv", ".svg", ".png"];
+const SUFFIXES: [&str; 6] = [
+    ".csv",
+    "_limit.csv",
+    "_load.csv",
+    ".svg",
+    ".png",
+    ".caption.txt",
+];
 
 /// Draw the plot into temporary files beside `svg` and `png`, then rename
 /// them into place: an interrupted or failed drawing leaves the old ones.
 fn write_plot<D: Drawing>(plot: &D, svg: &Path, png: &Path) -> Result<()> {
+    // The caption a journal prints under the figure, beside it.
+    let caption = svg.with_extension("caption.txt");
+    write(&caption, &(plot.caption() + "\n"))?;
     // The backends choose the format by extension: keep it last.
     let temp = |p: &Path| {
         let name = p.file_name().map(|n| n.to_string_lossy().into_owned());
@@ -113,6 +129,49 @@ fn write_plot<D: Drawing>(plot: &D, svg: &Path, png: &Path) -> Result<()> {
     result
 }
 
+/// Where a figure's new table grows while the one made before stays:
+/// `.NAME.csv.new` beside it.
+fn pending_path(csv_path: &Path) -> PathBuf {
+    let name = csv_path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    csv_path.with_file_name(format!(".{name}.new"))
+}
+
+/// The points of a sweep figure's CSV given with `--from`, checked as
+/// `--resume` checks a file: read through a size cap (regular files
+/// only), its header must be this figure's table with this command's
+/// model (so every line derived from the model, such as lambda_2, is that
+/// of the data), and its rows must be valid and complete, in job order.
+fn from_sweep_csv(from: &Path, spec: &SweepSpec, keys: &[String]) -> Result<Vec<SweepPoint>> {
+    let shown = from.display();
+    let meta = sweep_metadata(spec);
+    let header = meta.preamble(shakedown::analysis::sweep::CSV_HEADER);
+    let cap = header.len() as u64 + 4096 + 512 * (keys.len() as u64 + 1);
+    let bad = |e: &dyn std::fmt::Display| anyhow!(InputError(format!("--from {shown}: {e}")));
+    let bytes = shakedown::io::read::read_capped(from, cap).map_err(|e| bad(&e))?;
+    let found = shakedown::io::csv::Metadata::parse(&String::from_utf8_lossy(&bytes));
+    meta.check(&found).map_err(|e| {
+        bad(&format_args!(
+            "{e}: it is not this figure's table with these flags (give the flags that made it)"
+        ))
+    })?;
+    let row_key =
+        shakedown::io::csv::sweep_row_key_capped(spec.options().convergence.max_cycles as u64);
+    let point =
+        shakedown::io::batch::resume_point(&bytes, &header, keys, row_key).map_err(|e| bad(&e))?;
+    if point.kept < keys.len() || point.bytes < bytes.len() {
+        return Err(bad(&format_args!(
+            "it is partial: {} of {} runs (an interrupted figure): finish it with --resume and --out its folder",
+            point.kept,
+            keys.len()
+        )));
+    }
+    let text = std::str::from_utf8(&bytes).map_err(|_| bad(&"it is not UTF-8 text"))?;
+    parse_sweep_csv(text).map_err(|e| bad(&e))
+}
+
 fn read(flag: &str, path: &Path) -> Result<String> {
     std::fs::read_to_string(path).map_err(|e| {
         anyhow!(InputError(format!(
@@ -135,19 +194,22 @@ fn sweep_points(
     csv_path: &Path,
     replace: bool,
 ) -> Result<std::result::Result<Vec<SweepPoint>, ExitCode>> {
-    if let Some(from) = &args.from {
-        let text = read("--from", from)?;
-        let points = parse_sweep_csv(&text)
-            .map_err(|e| anyhow!(InputError(format!("--from {}: {e}", from.display()))))?;
-        return Ok(Ok(points));
-    }
     let jobs = spec.jobs();
     let keys: Vec<String> = jobs.iter().map(|j| job_key(spec, j)).collect();
-    let target = if replace {
-        temp_path(csv_path)
+    if let Some(from) = &args.from {
+        return from_sweep_csv(from, spec, &keys).map(Ok);
+    }
+    // With --force over an existing figure the new table grows beside the
+    // old one (`.NAME.csv.new`) and replaces it only when complete; an
+    // interrupted one is kept there, and --resume continues it.
+    let pending = pending_path(csv_path);
+    let continuing = args.resume && pending.exists();
+    let target = if replace || continuing {
+        pending.clone()
     } else {
         csv_path.to_path_buf()
     };
+    let replace = replace || continuing;
     let mut failed = Vec::new();
     let streamed = stream_sweep(
         spec,
@@ -165,16 +227,16 @@ fn sweep_points(
     let out = streamed.out;
     if !streamed.complete {
         if replace {
-            let written = out.written;
+            let done = out.kept + out.written;
             drop(out);
-            let _ = std::fs::remove_file(&target);
-            eprintln!(
-                "interrupted: {written} of {} runs were done; the figure made before is unchanged",
-                jobs.len()
+            errln!(
+                "interrupted: {done} of {} runs are in {}; the figure made before is unchanged; run the same command with --resume to finish",
+                jobs.len(),
+                target.display()
             );
             return Ok(Err(ExitCode::from(INTERRUPTED)));
         }
-        eprintln!("no plot was drawn");
+        errln!("no plot was drawn");
         return Ok(Err(report_interrupt(&out, jobs.len())));
     }
     warn_failures(&failed, out.written);
@@ -191,6 +253,9 @@ fn sweep_points(
 
 /// Run `shakedown figure`.
 pub fn figure(args: FigureArgs) -> Result<ExitCode> {
+    if args.name == "design" {
+        return super::design::figure(&args);
+    }
     let preset = load_preset("figure", &args.name)?;
     let Some(fig) = preset.figure.clone() else {
         return Err(anyhow!(InputError(format!(
@@ -234,6 +299,10 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             out_dir.display()
         )))
     })?;
+    let style: FigureStyle = args
+        .style
+        .parse()
+        .map_err(|e| anyhow!(InputError(format!("--style {}: {e}", args.style))))?;
     let origin: TimeOrigin = args.time_origin.parse().map_err(|e| {
         anyhow!(InputError(format!(
             "--time-origin {}: {e}: expected auto, 0 or an angle",
@@ -247,7 +316,35 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             refuse_input_as_output("--out", &file(ext), &[("preset file", preset_path)])?;
         }
     }
+    // No output may be one of the inputs, under any name.
+    let mut inputs: Vec<(&str, &Path)> = Vec::new();
+    if let Some(slip) = &args.lists.initial_slip {
+        inputs.push(("--initial-slip file", Path::new(slip)));
+    }
+    if let Some(from) = &args.from {
+        inputs.push(("--from file", from.as_path()));
+    }
+    for ext in SUFFIXES {
+        let out = file(ext);
+        let reads_it = ext == ".csv" && args.from.as_deref().is_some_and(|f| same_file(f, &out));
+        if !reads_it {
+            refuse_input_as_output("--out", &out, &inputs)?;
+        }
+    }
     let redraw = args.from.is_some();
+    if redraw && !args.force {
+        if let Some(old) = [".svg", ".png"]
+            .iter()
+            .map(|e| file(e))
+            .find(|p| is_nonempty_file(p))
+        {
+            return Err(anyhow!(InputError(format!(
+                "--out {}: {} exists: add --force to replace the figure's plots",
+                out_dir.display(),
+                old.display()
+            ))));
+        }
+    }
     // A figure made before is replaced only when the user asks: with
     // --force, or by redrawing (--from) or continuing (--resume) it.
     let existing: Vec<PathBuf> = SUFFIXES
@@ -272,7 +369,7 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     let started = Instant::now();
     let mut written = Vec::new();
     if args.resume && !matches!(fig.kind, FigureKind::Dissipation | FigureKind::Regime) {
-        eprintln!("note: --resume applies to sweep figures; {stem} runs in full");
+        errln!("note: --resume applies to sweep figures; {stem} runs in full");
     }
     match fig.kind {
         FigureKind::Dissipation => {
@@ -301,6 +398,8 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                 ratchetting: fig.ratchetting,
                 lines: fig.lines,
                 title,
+                show_title: args.title,
+                style,
                 limit: limit.as_ref().map(|l| l.load_factor),
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
@@ -368,6 +467,8 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                 map: &map,
                 limit: &curve,
                 title: format!("{title}, transient {}", spec.initials()[0].name()),
+                show_title: args.title,
+                style,
                 paper_lines: true,
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
@@ -405,6 +506,8 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             let plot = MemoryPlot {
                 points: &points,
                 title,
+                show_title: args.title,
+                style,
                 limit: limit.as_ref().map(|l| l.load_factor),
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
@@ -427,6 +530,8 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             let plot = SlipMapPlot {
                 map: &map,
                 title,
+                show_title: args.title,
+                style,
                 origin,
             };
             outln!(
@@ -438,6 +543,7 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     }
     written.push(file(".svg"));
     written.push(file(".png"));
+    written.push(file(".caption.txt"));
     for w in &written {
         outln!("wrote {}", w.display());
     }

@@ -53,12 +53,17 @@ fn classify(e: LimitError) -> anyhow::Error {
 /// Run `shakedown limit`.
 pub fn limit(args: LimitArgs) -> Result<ExitCode> {
     // Flags that play no part in lambda_2 are refused, not ignored.
-    for flag in ["lambda", "initial", "max-cycles", "steps"] {
+    for flag in ["lambda", "initial", "initial-path", "max-cycles", "steps"] {
         if let Some(v) = args.case.given(flag) {
             return Err(anyhow!(InputError(format!(
                 "--{flag} {v}: limit does not use it (lambda_2 depends on the cycle's direction, the material and --nodes only): drop it"
             ))));
         }
+    }
+    if args.case.model.run_out {
+        return Err(anyhow!(InputError(
+            "--run-out: limit does not use it (it changes how a run's shakedown is proven, and limit runs nothing): drop it".into()
+        )));
     }
     if let Some(phis) = args
         .case
@@ -81,11 +86,20 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
         })?,
         None => DEFAULT_SAMPLES,
     };
+    check_samples(samples, params.nodes)?;
     let _lock = prepare_out(&args)?;
     let (material, center) = (case.material, case.cycle.center());
     let (slope, phase) = (case.cycle.slope(), case.cycle.phase());
     let limit =
         shakedown_limit(&material, center, slope, phase, &case.disc, samples).map_err(classify)?;
+    if limit.line {
+        if let Some(t) = &args.samples {
+            return Err(anyhow!(InputError(format!(
+                "--samples {t}: limit does not use it at phi = {} (a straight cycle uses its two ends): drop it",
+                params.phase
+            ))));
+        }
+    }
     // Convergence in the sample count (a line has nothing to converge).
     let convergence =
         sample_convergence(&material, center, slope, phase, &case.disc, samples, &limit)
@@ -224,6 +238,7 @@ fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
             .map_err(|_| anyhow!(InputError(format!("--samples {t}: not a whole number"))))?,
         None => DEFAULT_SAMPLES,
     };
+    check_samples(samples, params.nodes)?;
     let points = limit_curve(
         &case.material,
         case.cycle.center(),
@@ -233,25 +248,49 @@ fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
         samples,
     );
     if let Some(e) = points.iter().find_map(|p| p.limit.as_ref().err()) {
-        eprintln!("warning: the programme failed at some phases (empty values): {e}");
+        errln!("warning: the programme failed at some phases (empty values): {e}");
     }
     let _lock = prepare_out(args)?;
-    let mut meta = shakedown::io::csv::case_metadata("limit-curve", &case, "OA");
-    meta.set(
-        "phi",
-        phases
-            .iter()
-            .map(f64::to_string)
-            .collect::<Vec<_>>()
-            .join(","),
+    let meta = shakedown::io::csv::limit_curve_metadata(
+        &case.material,
+        case.cycle.center(),
+        case.cycle.slope(),
+        case.disc.nodes(),
+        &phases,
+        samples,
     );
-    meta.set("samples", samples);
     let csv = format!("{}{}", meta.render(), curve_csv(&points));
-    print_stdout(&csv)?;
-    if let Some(out) = &args.out {
-        write_file("--out", out, csv.as_bytes())?;
+    match &args.out {
+        None => print_stdout(&csv)?,
+        Some(out) => {
+            write_file("--out", out, csv.as_bytes())?;
+            let solved = points.iter().filter(|p| p.limit.is_ok()).count();
+            outln!(
+                "lambda_2 at {solved} of {} phases written to {}",
+                points.len(),
+                out.display()
+            );
+        }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Largest `--samples`: the programme has a block of constraints per
+/// sample and node, and its memory grows with their product (4096 samples
+/// at 128 nodes took 2.7 GB).
+pub const MAX_SAMPLES: usize = 1024;
+/// Largest samples x nodes (about 0.7 GB at the rate measured above).
+pub const MAX_SAMPLE_NODES: usize = 1 << 17;
+
+/// Refuse `--samples` beyond the caps, before anything is allocated.
+fn check_samples(samples: usize, nodes: usize) -> Result<()> {
+    let cap = MAX_SAMPLES.min(MAX_SAMPLE_NODES / nodes.max(1)).max(3);
+    if samples > cap {
+        return Err(anyhow!(InputError(format!(
+            "--samples {samples}: at most {cap} with --nodes {nodes} (memory grows with samples x nodes): use fewer"
+        ))));
+    }
+    Ok(())
 }
 
 /// Refuse a bad `--out` before any work, and hold it against a second
@@ -260,6 +299,11 @@ fn prepare_out(args: &LimitArgs) -> Result<Option<OutputLock>> {
     let Some(out) = &args.out else {
         return Ok(None);
     };
+    if out.as_os_str() == "-" {
+        return Err(anyhow!(InputError(
+            "--out -: limit prints its report on stdout: give a file name for the CSV".into()
+        )));
+    }
     if let Some(preset) = &args.case.preset {
         refuse_input_as_output("--out", out, &[("--preset file", Path::new(preset))])?;
     }

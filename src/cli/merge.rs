@@ -16,8 +16,9 @@ use shakedown::io::output::is_nonempty_file;
 use shakedown::io::read::read_capped;
 
 use super::batch::{lock_file_output, print_stdout, refuse_input_as_output, write_file};
-use super::sweep::{grid_spec, job_key, row_key, GridArgs, HEADER};
+use super::sweep::{grid_spec, job_key, GridArgs, HEADER};
 use super::InputError;
+use shakedown::io::csv::sweep_row_key_capped;
 
 /// The flags of `shakedown merge`.
 #[derive(Debug, Args)]
@@ -45,7 +46,8 @@ fn cap(header: &str, runs: usize) -> u64 {
 }
 
 /// Run `shakedown merge`.
-pub fn merge(args: MergeArgs) -> Result<ExitCode> {
+pub fn merge(mut args: MergeArgs) -> Result<ExitCode> {
+    args.out = super::batch::dash_is_stdout(args.out.take());
     let spec = grid_spec(&args.grid)?;
     let keys: Vec<String> = spec.jobs().iter().map(|j| job_key(&spec, j)).collect();
     let meta = sweep_metadata(&spec);
@@ -88,13 +90,15 @@ pub fn merge(args: MergeArgs) -> Result<ExitCode> {
             Ok((shown, content))
         })
         .collect::<Result<Vec<_>>>()?;
+    // Every row checked, its cycles against the cap the header records.
+    let row_key = sweep_row_key_capped(spec.options().convergence.max_cycles as u64);
     let merged = shakedown::io::batch::merge(&header, &keys, &inputs, row_key)
         .map_err(|e| anyhow!(InputError(format!("merge: {e}"))))?;
     match &args.out {
         None => print_stdout(&merged)?,
         Some(path) => {
             write_file("--out", path, merged.as_bytes())?;
-            eprintln!(
+            errln!(
                 "merged {} runs from {} files into {}",
                 keys.len(),
                 inputs.len(),

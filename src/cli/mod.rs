@@ -12,7 +12,17 @@ macro_rules! outln {
     };
 }
 
+/// `eprintln!` that never panics: when stderr cannot be written (a full
+/// disk, a closed pipe), nothing more can be said, so the process ends
+/// quietly with status 1 (an environment failure).
+macro_rules! errln {
+    ($($arg:tt)*) => {
+        $crate::cli::batch::print_stderr(&format!("{}\n", format_args!($($arg)*)))
+    };
+}
+
 pub mod batch;
+mod design;
 mod figure;
 mod limit;
 mod merge;
@@ -59,6 +69,8 @@ enum Command {
     Figure(figure::FigureArgs),
     /// The shakedown limit lambda_2 by linear programming, and its optimal slip.
     Limit(limit::LimitArgs),
+    /// Search transients O -> P1 -> ... -> PK -> A whose steady cycle shakes down at --lambda (or, with --frontier, the highest lambda at which one found does).
+    Design(design::DesignArgs),
 }
 
 /// Flags of the model and its discretisation, shared by every command.
@@ -375,7 +387,7 @@ pub fn warn_if_slow(nodes: usize, steps: usize) {
     } else {
         format!("about {:.1} h", t / 3600.0)
     };
-    eprintln!(
+    errln!(
         "warning: --nodes {nodes} --steps {steps} is above the interactive range (nodes <= {INTERACTIVE_NODES}, steps <= {INTERACTIVE_STEPS}): expect {time} per run"
     );
 }
@@ -390,6 +402,9 @@ pub fn initial_slip(path: &str, nodes: usize) -> Result<shakedown::model::Initia
         |e: &dyn std::fmt::Display| anyhow!(InputError(format!("--initial-slip {shown}: {e}")));
     let text =
         read_text_capped(std::path::Path::new(path), MAX_PRESET_BYTES).map_err(|e| bad(&e))?;
+    // The slip is identified by its content, not its name: a file replaced
+    // meanwhile gives another name, which --resume and merge refuse.
+    let id = shakedown::io::hash::content_id(text.as_bytes());
     let slip = shakedown::io::csv::read_slip_csv(&text, nodes).map_err(|e| bad(&e))?;
     let stem = std::path::Path::new(path)
         .file_name()
@@ -406,7 +421,7 @@ pub fn initial_slip(path: &str, nodes: usize) -> Result<shakedown::model::Initia
         })
         .collect();
     Ok(shakedown::model::Initial::Slip {
-        name: format!("slip:{stem}"),
+        name: format!("slip:{stem}@sha256:{id}"),
         slip: std::sync::Arc::new(slip),
     })
 }
@@ -449,13 +464,20 @@ pub fn main() -> ExitCode {
                     | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
             );
             if help || !e.use_stderr() {
-                let _ = e.print();
-                return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+                // `--help > /dev/full`: the help was not shown, so fail.
+                let shown =
+                    e.print().is_ok() && std::io::Write::flush(&mut std::io::stdout()).is_ok();
+                return ExitCode::from(match (shown, e.use_stderr()) {
+                    (false, _) => 1,
+                    (true, true) => 2,
+                    (true, false) => 0,
+                });
             }
-            eprintln!("error: {}", clap_one_line(&e));
+            errln!("error: {}", clap_one_line(&e));
             return ExitCode::from(2);
         }
     };
+    clamp_threads();
     let result = match cli.command {
         None => tui(TuiArgs {
             history_mb: shakedown::tui::app::DEFAULT_HISTORY_MB as u64,
@@ -468,13 +490,14 @@ pub fn main() -> ExitCode {
         Some(Command::Presets) => presets::presets(),
         Some(Command::Figure(a)) => figure::figure(a),
         Some(Command::Limit(a)) => limit::limit(a),
+        Some(Command::Design(a)) => design::design(a),
     };
     match result {
         Ok(code) => code,
         // `shakedown presets | head -1`: the reader has what it wants.
         Err(e) if batch::is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", one_line(&e));
+            errln!("error: {}", one_line(&e));
             if is_input_error(&e) {
                 ExitCode::from(2)
             } else {
@@ -568,7 +591,59 @@ fn is_input_error(e: &anyhow::Error) -> bool {
     })
 }
 
+/// Threads per core beyond which more threads only cost memory and
+/// start-up time (`RAYON_NUM_THREADS=100000` hangs a run).
+const THREADS_PER_CORE: usize = 4;
+
+/// Clamp a `RAYON_NUM_THREADS` far above the cores, with a warning. The
+/// results do not depend on the thread count, only the time does.
+fn clamp_threads() {
+    let Some(asked) = std::env::var("RAYON_NUM_THREADS")
+        .ok()
+        .and_then(|v| v.trim().parse::<usize>().ok())
+    else {
+        return;
+    };
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let cap = THREADS_PER_CORE * cores;
+    if asked > cap {
+        errln!(
+            "warning: RAYON_NUM_THREADS={asked} is far above the {cores} cores: using {cap} threads (the results are the same)"
+        );
+        let _ = rayon::ThreadPoolBuilder::new()
+            .num_threads(cap)
+            .build_global();
+    }
+}
+
+/// The memory the system can give without swapping (`MemAvailable` of
+/// `/proc/meminfo`), in MiB, where the system says.
+fn available_mib() -> Option<u64> {
+    let text =
+        shakedown::io::read::read_text_capped(std::path::Path::new("/proc/meminfo"), 1 << 16)
+            .or_else(|_| std::fs::read_to_string("/proc/meminfo"))
+            .ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024)
+}
+
+/// Refuse a `--history-mb` above half the memory available: the record
+/// grows to it, and the rest of the system needs the remainder.
+fn check_history_mb(mib: u64) -> Result<()> {
+    if let Some(avail) = available_mib() {
+        let cap = (avail / 2).max(8);
+        if mib > cap {
+            return Err(anyhow!(InputError(format!(
+                "--history-mb {mib}: at most {cap} on this machine (half the {avail} MiB of memory available): use less"
+            ))));
+        }
+    }
+    Ok(())
+}
+
 fn tui(args: TuiArgs) -> Result<ExitCode> {
+    check_history_mb(args.history_mb)?;
     let preset = args.case.preset()?;
     let base = preset
         .as_ref()

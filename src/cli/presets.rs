@@ -17,7 +17,7 @@ pub fn presets() -> Result<ExitCode> {
         match preset {
             Ok(p) => outln!("{name:width$}  {}", p.description),
             Err(e) => {
-                eprintln!("error: {e}");
+                errln!("error: {e}");
                 code = ExitCode::from(1);
             }
         }

@@ -124,7 +124,7 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
     let _ = writeln!(
         o,
         "case      lambda = {}  phi = {:.6} rad ({:.4} pi)  psi = {}  A = ({:.4}, {:.4})",
-        p.load_factor,
+        shakedown::io::csv::fmt_number(p.load_factor),
         p.phase,
         p.phase / std::f64::consts::PI,
         p.slope,

@@ -183,7 +183,7 @@ pub fn warn_failures(failed: &[String], total: usize) {
     let mut reasons = failed.to_vec();
     reasons.sort();
     reasons.dedup();
-    eprintln!(
+    errln!(
         "warning: {} of {total} runs failed (state 'failed' in the CSV): {}",
         failed.len(),
         reasons.join("; ")
@@ -204,6 +204,7 @@ fn key(load_factor: f64, phase: f64, initial: &str) -> String {
     format!("{load_factor},{phase},\"{initial}\"")
 }
 
+#[cfg(test)]
 /// The key of a CSV line (see [`job_key`]) after validating the whole row
 /// ([`shakedown::io::csv::sweep_row_key`]), or what is wrong with it.
 pub fn row_key(line: &str) -> std::result::Result<&str, String> {
@@ -223,11 +224,20 @@ pub fn shard_jobs(spec: &SweepSpec, shard: Option<&str>) -> Result<(Vec<Job>, Ve
     Ok((jobs, keys))
 }
 
-pub fn sweep(args: SweepArgs) -> Result<ExitCode> {
+pub fn sweep(mut args: SweepArgs) -> Result<ExitCode> {
+    args.out = super::batch::dash_is_stdout(args.out.take());
     let spec = grid_spec(&args.grid)?;
     let (jobs, keys) = shard_jobs(&spec, args.shard.as_deref())?;
-    if let (Some(out), Some(preset)) = (&args.out, &args.grid.preset) {
-        refuse_input_as_output("--out", out, &[("--preset file", Path::new(preset))])?;
+    if let Some(out) = &args.out {
+        // No output may be one of the inputs, under any name.
+        let mut inputs = Vec::new();
+        if let Some(preset) = &args.grid.preset {
+            inputs.push(("--preset file", Path::new(preset)));
+        }
+        if let Some(slip) = &args.grid.lists.initial_slip {
+            inputs.push(("--initial-slip file", Path::new(slip)));
+        }
+        refuse_input_as_output("--out", out, &inputs)?;
     }
     let mut failed = 0;
     let streamed = stream_sweep(
@@ -241,9 +251,11 @@ pub fn sweep(args: SweepArgs) -> Result<ExitCode> {
             if let Err(e) = &row.outcome {
                 failed += 1;
                 bar.suspend(|| {
-                    eprintln!(
+                    errln!(
                         "warning: run lambda = {}, phi = {}, initial {} failed: {e}",
-                        row.job.load_factor, row.job.phase, row.initial
+                        row.job.load_factor,
+                        row.job.phase,
+                        row.initial
                     )
                 });
             }
@@ -258,7 +270,7 @@ pub fn sweep(args: SweepArgs) -> Result<ExitCode> {
         return Ok(report_interrupt(&streamed.out, jobs.len()));
     }
     if failed > 0 {
-        eprintln!(
+        errln!(
             "warning: {failed} of {} runs failed (state 'failed' in the CSV)",
             streamed.out.written
         );

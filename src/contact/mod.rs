@@ -3,13 +3,14 @@
 
 mod cache;
 pub(crate) use cache::ResponseCache;
-mod increment;
 mod inverse;
 mod kernels;
 mod operators;
-mod reduced;
 mod solver;
+mod tolerances;
 
-pub use increment::{ContactEvent, ContactEventKind, Increment};
 pub use operators::Operators;
-pub use solver::{Advanced, Contact, ContactEnd, ContactError, SlipDirection, Solved, Trial};
+pub use solver::{
+    Advanced, Contact, ContactEnd, ContactError, ContactEvent, ContactEventKind, Increment,
+    SlipDirection, Solved, Trial,
+};

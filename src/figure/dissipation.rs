@@ -11,8 +11,8 @@ use plotters::prelude::*;
 
 use super::data::SweepPoint;
 use super::style::{
-    font, glyph, legend, line_sample, optimal_glyph, padded, s, Drawing, Mark, Pattern, GREY,
-    LIGHT_GREY, PALETTE, W_LABEL,
+    decades, glyph, optimal_glyph, padded, pow10_label, readable, s, Drawing, FigureStyle, Key,
+    LinearAxis, Mark, Pattern, Pen, Sample, GREY, LIGHT_GREY, PALETTE, W_LABEL,
 };
 use crate::analysis::sweep::Axis;
 use crate::io::preset::RatchettingMarkers;
@@ -27,10 +27,17 @@ pub struct DissipationPlot<'a> {
     /// How ratchetting is marked.
     pub ratchetting: RatchettingMarkers,
     /// Join the points of each series (same other variable and initial),
-    /// each value of the other variable in its own colour and line pattern.
+    /// each value of the other variable in its own colour and line pattern;
+    /// a second panel then shows `W` on a log axis, so every series can be
+    /// read.
     pub lines: bool,
-    /// The plot title.
+    /// What the figure shows, in words: the start of its caption.
     pub title: String,
+    /// Draw the title on the figure (for slides); by default it goes only
+    /// into the caption.
+    pub show_title: bool,
+    /// Where the figure goes.
+    pub style: FigureStyle,
     /// `lambda_2` to mark (against `lambda` only).
     pub limit: Option<f64>,
 }
@@ -110,98 +117,274 @@ impl DissipationPlot<'_> {
         Some((a - pad, b + pad))
     }
 
+    /// Whether there is a second panel: the memory window, or `W` of the
+    /// lines on a log axis.
+    fn two_panels(&self) -> bool {
+        self.window().is_some() || (self.lines && self.drawn().iter().any(|p| p.1 > 0.0))
+    }
+
     fn drawn(&self) -> Vec<Drawn<'_>> {
         self.points
             .iter()
-            .filter_map(|p| {
-                let state = p.state?;
-                let mark = Mark::of(state, self.ratchetting);
-                let w = if mark == Mark::Ended {
-                    0.0
-                } else {
-                    p.dissipation
-                };
-                Some((self.x_of(p), w, mark, p))
+            .map(|p| {
+                let mark = Mark::of(p.state, self.ratchetting);
+                let w = if mark.at_zero() { 0.0 } else { p.dissipation };
+                (self.x_of(p), w, mark, p)
             })
             .collect()
+    }
+
+    fn x_range(&self) -> (f64, f64) {
+        let xs = self.points.iter().map(|p| self.x_of(p));
+        padded(
+            xs.clone().fold(f64::MAX, f64::min),
+            xs.fold(f64::MIN, f64::max),
+        )
+    }
+
+    fn x_desc(&self) -> &'static str {
+        match self.axis {
+            Axis::Lambda => "λ",
+            Axis::Phi => "φ / π",
+        }
+    }
+
+    /// The values of the other variable, each a line of its own.
+    fn others(&self) -> Vec<f64> {
+        let mut others: Vec<f64> = self.points.iter().map(|p| self.other_of(p)).collect();
+        others.sort_by(f64::total_cmp);
+        others.dedup();
+        others
+    }
+
+    fn line_name(&self, other: f64) -> String {
+        match self.axis {
+            Axis::Lambda => format!("φ = {} π", readable(other / PI)),
+            Axis::Phi => format!("λ = {other}"),
+        }
+    }
+
+    /// `lambda_2` when it is drawn.
+    fn limit_drawn(&self) -> Option<f64> {
+        let (x0, x1) = self.x_range();
+        match (self.limit, self.axis) {
+            (Some(l2), Axis::Lambda) if l2 > x0 && l2 < x1 => Some(l2),
+            _ => None,
+        }
+    }
+
+    /// `lambda_3` when the log panel draws it.
+    fn lambda_3_drawn(&self) -> Option<f64> {
+        let (a, b) = self.window()?;
+        let (_, l3) = memory_window(self.points)?;
+        (l3 > a && l3 < b).then_some(l3)
+    }
+
+    /// The key: exactly what the figure shows.
+    fn key(&self) -> Key {
+        let mut key = Key::default();
+        let pts = self.drawn();
+        if self.lines {
+            for (k, other) in self.others().iter().enumerate() {
+                key.push(
+                    Sample::Line(
+                        Pattern::ALL[k % Pattern::ALL.len()],
+                        PALETTE[k % PALETTE.len()],
+                        1.5,
+                    ),
+                    self.line_name(*other),
+                );
+            }
+        }
+        for slipping in [false, true] {
+            if pts
+                .iter()
+                .any(|p| self.diamond(p) && (p.2 != Mark::Shakedown) == slipping)
+            {
+                let label = if slipping {
+                    "from the optimal slip of the λ₂ programme: slips"
+                } else {
+                    "from the optimal slip of the λ₂ programme: shakedown"
+                };
+                key.push(Sample::Optimal(slipping), label);
+            }
+        }
+        for mark in Mark::ORDER {
+            if pts.iter().any(|p| p.2 == mark && !self.diamond(p)) {
+                key.push(Sample::Mark(mark, self.lines), mark.label());
+            }
+        }
+        if let Some(l2) = self.limit_drawn() {
+            key.push(
+                Sample::Line(Pattern::Dashed, BLACK, 1.0),
+                format!("λ₂ = {} (linear programme)", readable(l2)),
+            );
+        }
+        if self.window().is_some() {
+            key.push(
+                Sample::Swatch(RGBColor(225, 225, 225)),
+                "range enlarged in (b)",
+            );
+            key.push(
+                Sample::Bar(LIGHT_GREY, 5.0),
+                "spread of W over the transients",
+            );
+        }
+        if let Some(l3) = self.lambda_3_drawn() {
+            key.push(
+                Sample::Line(Pattern::Dotted, GREY, 2.0),
+                format!("λ₃ = {l3}: from here every transient ratchets, same W"),
+            );
+        }
+        key
+    }
+
+    /// Whether `p` is drawn as an optimal-slip diamond: runs that end or
+    /// do not converge keep their state's mark.
+    fn diamond(&self, p: &Drawn<'_>) -> bool {
+        p.3.is_optimal() && !(p.2.at_zero() || p.2 == Mark::NotConverged)
+    }
+
+    /// Height of a panel over the figure's width, on paper.
+    fn panel_aspect(&self) -> f64 {
+        match self.style {
+            FigureStyle::Paper1Col => 0.72,
+            _ => 0.5,
+        }
     }
 }
 
 impl Drawing for DissipationPlot<'_> {
-    fn size(&self) -> (u32, u32) {
-        if self.window().is_some() {
-            (1000, 1160)
-        } else {
-            (1000, 660)
-        }
+    fn style(&self) -> FigureStyle {
+        self.style
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        let root = root.titled(&self.title, font(22.0)).map_err(s)?;
+    fn aspect(&self) -> f64 {
+        let width = self.style.width_pt();
+        let panels = if self.two_panels() { 2.0 } else { 1.0 };
+        let title = if self.show_title {
+            2.0 * self.style.font_pt()
+        } else {
+            0.0
+        };
+        panels * self.panel_aspect() + (self.key().height_pt(self.style, width) + title) / width
+    }
+
+    fn caption(&self) -> String {
+        let mut text = self.title.trim_end_matches('.').to_string();
+        text.push('.');
+        if let Some((a, b)) = self.window() {
+            text.push_str(&format!(
+                " (a) W on a linear axis, as in the paper. (b) W on a log axis over λ = {} to {}, where the transients disagree; shakedown (W = 0) is not shown there.",
+                readable(a),
+                readable(b)
+            ));
+        } else if self.two_panels() {
+            text.push_str(
+                " (a) W on a linear axis, as in the paper. (b) The same on a log axis, so that every line can be read; W = 0 is not shown there.",
+            );
+        }
+        if let Some(l2) = self.limit_drawn() {
+            text.push_str(&format!(
+                " The dashed line is the shakedown limit λ₂ = {} of the linear programme.",
+                readable(l2)
+            ));
+        }
+        if self.drawn().iter().any(|p| p.2.at_zero()) {
+            text.push_str(" Runs that end (gross slip, separation) or fail have no steady W and are drawn at W = 0.");
+        }
+        text
+    }
+
+    fn title(&self) -> Option<&str> {
+        self.show_title.then_some(self.title.as_str())
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String> {
+        let key = self.key();
+        let (w, h) = root.dim_in_pixel();
+        let key_h = pen.px(key.height_pt(self.style, self.style.width_pt())) as u32;
+        let (plots, key_area) = root.split_vertically(h.saturating_sub(key_h));
+        key.draw(&key_area, pen)?;
+        if !self.two_panels() {
+            return self.linear(&plots, pen, None, false);
+        }
+        let (a, b) = if self.style == FigureStyle::Slide {
+            plots.split_horizontally(w / 2)
+        } else {
+            let ph = plots.dim_in_pixel().1;
+            plots.split_vertically(ph / 2)
+        };
         match self.window() {
-            None => self.linear(&root, None),
             Some(window) => {
-                let (top, bottom) = root.split_vertically(560);
-                self.linear(&top, Some(window))?;
-                self.log_panel(&bottom, window)
+                self.linear(&a, pen, Some(window), true)?;
+                self.log_panel(&b, pen, window)
+            }
+            None => {
+                self.linear(&a, pen, None, true)?;
+                self.log_lines(&b, pen)
             }
         }
     }
 }
 
 impl DissipationPlot<'_> {
-    /// The paper's plot: `W` on a linear axis. `window` is shaded (the
-    /// range the log panel enlarges).
+    /// A chart's frame: margins, label areas and panel letter in `pen`.
+    fn frame<'a, DB: DrawingBackend>(
+        area: &'a DrawingArea<DB, Shift>,
+        pen: &Pen,
+        letter: &str,
+    ) -> ChartBuilder<'a, 'a, DB> {
+        let f = pen.text_pt();
+        let mut b = ChartBuilder::on(area);
+        b.margin(pen.px(0.8 * f))
+            .margin_right(pen.px(1.6 * f))
+            .x_label_area_size(pen.px(2.9 * f))
+            .y_label_area_size(pen.px(4.6 * f));
+        if !letter.is_empty() {
+            b.caption(letter, pen.text());
+        }
+        b
+    }
+
+    /// The paper's plot: `W` on a linear axis, from 0 to just above the
+    /// largest `W`. `window` is shaded (the range the log panel enlarges).
     fn linear<DB: DrawingBackend>(
         &self,
         area: &DrawingArea<DB, Shift>,
+        pen: &Pen,
         window: Option<(f64, f64)>,
+        lettered: bool,
     ) -> Result<(), String> {
         let pts = self.drawn();
-        let xs = self.points.iter().map(|p| self.x_of(p));
-        let (x0, x1) = padded(
-            xs.clone().fold(f64::MAX, f64::min),
-            xs.fold(f64::MIN, f64::max),
-        );
+        let (x0, x1) = self.x_range();
         let wmax = pts
             .iter()
             .map(|p| p.1)
             .filter(|w| w.is_finite())
             .fold(0.0, f64::max);
-        // Against phi the points span the whole width: leave headroom for
-        // the legend above them.
-        let headroom = match (self.axis, self.lines) {
-            (Axis::Lambda, _) => 1.08,
-            (Axis::Phi, true) => 1.75,
-            (Axis::Phi, false) => 1.5,
-        };
-        let y1 = if wmax > 0.0 { headroom * wmax } else { 1e-3 };
-        // Enough decimals for two significant digits at the top of the axis.
-        let decimals = ((-y1.log10()).ceil().max(0.0) as usize + 1).min(12);
-        let caption = if window.is_some() {
-            "(a) linear axis, as in the paper"
-        } else {
-            ""
-        };
-        let mut chart = ChartBuilder::on(area)
-            .caption(caption, font(16.0))
-            .margin(14)
-            .x_label_area_size(48)
-            .y_label_area_size(90)
+        let axis = LinearAxis::fit(wmax);
+        let y1 = axis.top;
+        let letter = if lettered { "(a)" } else { "" };
+        let mut chart = Self::frame(area, pen, letter)
             .build_cartesian_2d(x0..x1, 0.0..y1)
             .map_err(s)?;
-        let x_desc = match self.axis {
-            Axis::Lambda => "λ",
-            Axis::Phi => "φ / π",
-        };
+        let y_desc = axis.title(W_LABEL);
         chart
             .configure_mesh()
             .disable_mesh()
-            .x_desc(x_desc)
-            .y_desc(W_LABEL)
-            .axis_desc_style(font(20.0))
-            .label_style(font(14.0))
-            .y_label_formatter(&|v| format!("{v:.decimals$}"))
+            .x_desc(self.x_desc())
+            .y_desc(y_desc)
+            .axis_desc_style(pen.text())
+            .label_style(pen.tick())
+            .axis_style(pen.line(BLACK, 1.0))
+            .set_all_tick_mark_size(pen.px(0.35 * pen.text_pt()))
+            .y_labels(axis.ticks)
+            .y_label_formatter(&|v| axis.label(*v))
             .draw()
             .map_err(s)?;
 
@@ -209,41 +392,34 @@ impl DissipationPlot<'_> {
             chart
                 .draw_series(std::iter::once(Rectangle::new(
                     [(a.max(x0), 0.0), (b.min(x1), y1)],
-                    RGBColor(240, 240, 240).filled(),
+                    RGBColor(236, 236, 236).filled(),
                 )))
-                .map_err(s)?
-                .label("range enlarged in (b)")
-                .legend(|(x, y)| {
-                    Rectangle::new(
-                        [(x - 12, y - 6), (x + 12, y + 6)],
-                        RGBColor(225, 225, 225).filled(),
-                    )
-                });
+                .map_err(s)?;
         }
-
         if self.lines {
-            self.draw_lines(&mut chart, &pts)?;
+            self.draw_lines(&mut chart, pen, &pts, false)?;
         }
-        self.draw_limit(&mut chart, 0.0, y1, (x0, x1), 0.5 * y1)?;
-        self.draw_marks(&mut chart, &pts, |_| true)?;
-        legend(&mut chart, SeriesLabelPosition::UpperLeft)
+        if let Some(l2) = self.limit_drawn() {
+            self.draw_limit(&mut chart, pen, l2, 0.0, y1, (x0, x1), 0.55 * y1)?;
+        }
+        self.draw_marks(&mut chart, pen, &pts)
     }
 
     /// One line per value of the other variable and initial path, each
     /// value in its own colour and pattern; the lines are drawn before the
-    /// (smaller) marks so they show between them.
+    /// (smaller) marks so they show between them. On a log axis (`log`),
+    /// each line is broken where `W` is 0.
     fn draw_lines<'a, DB: DrawingBackend + 'a, CT: CoordTranslate<From = (f64, f64)>>(
         &self,
         chart: &mut ChartContext<'a, DB, CT>,
+        pen: &Pen,
         pts: &[Drawn<'_>],
+        log: bool,
     ) -> Result<(), String> {
-        let mut others: Vec<f64> = self.points.iter().map(|p| self.other_of(p)).collect();
-        others.sort_by(f64::total_cmp);
-        others.dedup();
-        for (k, other) in others.iter().enumerate() {
+        for (k, other) in self.others().iter().enumerate() {
             let colour = PALETTE[k % PALETTE.len()];
             let pattern = Pattern::ALL[k % Pattern::ALL.len()];
-            let style = colour.stroke_width(2);
+            let style = pen.line(colour, 1.5);
             let mut initials: Vec<&str> = Vec::new();
             for p in self.points {
                 if self.other_of(p) == *other && !initials.contains(&p.initial.as_str()) {
@@ -258,103 +434,140 @@ impl DissipationPlot<'_> {
                     .map(|p| (p.0, p.1))
                     .collect();
                 line.sort_by(|a, b| a.0.total_cmp(&b.0));
-                pattern.draw(chart, line, style)?;
+                if log {
+                    for piece in line.split(|p| p.1 <= 0.0) {
+                        if piece.len() > 1 {
+                            pattern.draw(chart, piece.to_vec(), style)?;
+                        }
+                    }
+                } else {
+                    pattern.draw(chart, line, style)?;
+                }
             }
-            let name = match self.axis {
-                Axis::Lambda => format!("φ = {:.4} π", other / PI),
-                Axis::Phi => format!("λ = {other}"),
-            };
-            // An empty series carries the legend entry, drawn as the line is.
-            chart
-                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                .map_err(s)?
-                .label(name)
-                .legend(move |c| line_sample!(pattern, c, style));
         }
         Ok(())
     }
 
-    /// `lambda_2` as a dashed vertical line, with a dashed legend sample.
+    /// `lambda_2` as a dashed vertical line, named beside it.
+    #[allow(clippy::too_many_arguments)]
     fn draw_limit<'a, DB: DrawingBackend + 'a, CT: CoordTranslate<From = (f64, f64)>>(
         &self,
         chart: &mut ChartContext<'a, DB, CT>,
+        pen: &Pen,
+        l2: f64,
         y0: f64,
         y1: f64,
         (x0, x1): (f64, f64),
         label_y: f64,
     ) -> Result<(), String> {
-        let (Some(l2), Axis::Lambda) = (self.limit, self.axis) else {
-            return Ok(());
-        };
-        if l2 <= x0 || l2 >= x1 {
-            return Ok(());
-        }
-        let style = BLACK.stroke_width(1);
-        Pattern::Dashed.draw(chart, vec![(l2, y0), (l2, y1)], style)?;
+        Pattern::Dashed.draw(chart, vec![(l2, y0), (l2, y1)], pen.line(BLACK, 1.0))?;
         chart
             .draw_series(std::iter::once(Text::new(
                 "λ₂",
                 (l2 + 0.008 * (x1 - x0), label_y),
-                font(18.0),
+                pen.text(),
             )))
-            .map_err(s)?
-            .label(format!("λ₂ = {l2:.4} (linear programme)"))
-            .legend(move |c| line_sample!(Pattern::Dashed, c, style));
+            .map_err(s)?;
         Ok(())
     }
 
-    /// The state marks (the optimal-slip runs as green diamonds), each
-    /// kind with its legend entry.
+    /// The state marks, rings first and dots after ([`Mark::ORDER`]), then
+    /// the optimal-slip runs as open green diamonds round their marks, so
+    /// that where runs coincide every state stays visible.
     fn draw_marks<'a, DB: DrawingBackend + 'a, CT: CoordTranslate<From = (f64, f64)>>(
         &self,
         chart: &mut ChartContext<'a, DB, CT>,
+        pen: &Pen,
         pts: &[Drawn<'_>],
-        keep: impl Fn(&Drawn<'_>) -> bool,
     ) -> Result<(), String> {
-        // The optimal-slip runs first, as diamonds a little larger than the
-        // state marks, so that where every run has the same W (ratchetting)
-        // the transients' marks sit inside them and both show. Runs that
-        // end or do not converge keep the state's mark.
-        let diamond =
-            |p: &Drawn<'_>| p.3.is_optimal() && !matches!(p.2, Mark::Ended | Mark::NotConverged);
-        for slipping in [false, true] {
-            let at: Vec<(f64, f64)> = pts
-                .iter()
-                .filter(|p| diamond(p) && keep(p))
-                .filter(|p| (p.2 != Mark::Shakedown) == slipping)
-                .map(|p| (p.0, p.1))
-                .collect();
-            if at.is_empty() {
-                continue;
-            }
-            let label = if slipping {
-                "optimal slip of the λ₂ programme: slips"
-            } else {
-                "optimal slip of the λ₂ programme: shakedown"
-            };
-            chart
-                .draw_series(at.into_iter().map(|c| optimal_glyph!(slipping, c)))
-                .map_err(s)?
-                .label(label)
-                .legend(move |c| optimal_glyph!(slipping, c));
-        }
         let small = self.lines;
         for mark in Mark::ORDER {
             let at: Vec<(f64, f64)> = pts
                 .iter()
-                .filter(|p| p.2 == mark && !diamond(p) && keep(p))
+                .filter(|p| p.2 == mark)
                 .map(|p| (p.0, p.1))
                 .collect();
-            if at.is_empty() {
-                continue;
-            }
             chart
-                .draw_series(at.into_iter().map(|c| glyph!(mark, c, small)))
-                .map_err(s)?
-                .label(mark.label())
-                .legend(move |c| glyph!(mark, c, small));
+                .draw_series(at.into_iter().map(|c| glyph!(mark, c, pen, small)))
+                .map_err(s)?;
+        }
+        for slipping in [false, true] {
+            let at: Vec<(f64, f64)> = pts
+                .iter()
+                .filter(|p| self.diamond(p))
+                .filter(|p| (p.2 != Mark::Shakedown) == slipping)
+                .map(|p| (p.0, p.1))
+                .collect();
+            chart
+                .draw_series(at.into_iter().map(|c| optimal_glyph!(slipping, c, pen)))
+                .map_err(s)?;
         }
         Ok(())
+    }
+
+    /// A log-`W` chart over `x0..x1` for the points `pts` (`W > 0`).
+    fn log_chart<'a, DB: DrawingBackend>(
+        area: &'a DrawingArea<DB, Shift>,
+        pen: &Pen,
+        (x0, x1): (f64, f64),
+        (y0, y1): (f64, f64),
+        x_desc: &str,
+    ) -> Result<
+        ChartContext<
+            'a,
+            DB,
+            Cartesian2d<
+                plotters::coord::types::RangedCoordf64,
+                plotters::coord::combinators::LogCoord<f64>,
+            >,
+        >,
+        String,
+    > {
+        let mut chart = Self::frame(area, pen, "(b)")
+            .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+            .map_err(s)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc(x_desc)
+            .y_desc(W_LABEL)
+            .axis_desc_style(pen.text())
+            .label_style(pen.tick())
+            .axis_style(pen.line(BLACK, 1.0))
+            .set_all_tick_mark_size(pen.px(0.35 * pen.text_pt()))
+            .y_label_formatter(&pow10_label)
+            .draw()
+            .map_err(s)?;
+        Ok(chart)
+    }
+
+    /// (b) of a plot with lines: the same lines with `W` on a log axis.
+    fn log_lines<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String> {
+        let pts: Vec<Drawn<'_>> = self
+            .drawn()
+            .into_iter()
+            .filter(|p| p.1 > 0.0 && p.1.is_finite())
+            .collect();
+        let wmax = pts.iter().map(|p| p.1).fold(0.0, f64::max);
+        let floor = (wmax * 1e-8).max(1e-14);
+        let pts: Vec<Drawn<'_>> = pts.into_iter().filter(|p| p.1 >= floor).collect();
+        let wmin = pts.iter().map(|p| p.1).fold(f64::MAX, f64::min);
+        if pts.is_empty() {
+            return Ok(());
+        }
+        let mut chart = Self::log_chart(
+            area,
+            pen,
+            self.x_range(),
+            decades(wmin, wmax),
+            self.x_desc(),
+        )?;
+        self.draw_lines(&mut chart, pen, &pts, true)?;
+        self.draw_marks(&mut chart, pen, &pts)
     }
 
     /// (b): `W` on a log axis over `window`, each `lambda`'s spread over the
@@ -362,6 +575,7 @@ impl DissipationPlot<'_> {
     fn log_panel<DB: DrawingBackend>(
         &self,
         area: &DrawingArea<DB, Shift>,
+        pen: &Pen,
         (a, b): (f64, f64),
     ) -> Result<(), String> {
         let inside = |p: &Drawn<'_>| p.0 >= a && p.0 <= b && p.1 > 0.0 && p.1.is_finite();
@@ -375,27 +589,8 @@ impl DissipationPlot<'_> {
         if pts.is_empty() || wmax <= 0.0 {
             return Ok(());
         }
-        let (y0, y1) = (wmin / 2.0, wmax * 2.0);
-        let mut chart = ChartBuilder::on(area)
-            .caption(
-                "(b) the memory: W on a log axis where the transients disagree (shakedown, W = 0, not shown)",
-                font(16.0),
-            )
-            .margin(14)
-            .x_label_area_size(48)
-            .y_label_area_size(90)
-            .build_cartesian_2d(a..b, (y0..y1).log_scale())
-            .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc("λ")
-            .y_desc(W_LABEL)
-            .axis_desc_style(font(20.0))
-            .label_style(font(14.0))
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .draw()
-            .map_err(s)?;
+        let (y0, y1) = decades(wmin, wmax);
+        let mut chart = Self::log_chart(area, pen, (a, b), (y0, y1), "λ")?;
 
         // The spread between the transients at each lambda.
         let mut lambdas: Vec<f64> = pts.iter().map(|p| p.0).collect();
@@ -413,39 +608,30 @@ impl DissipationPlot<'_> {
                 (hi > lo).then_some((l, lo, hi))
             })
             .collect();
-        let bar = LIGHT_GREY.stroke_width(5);
+        let bar = pen.line(LIGHT_GREY, 5.0);
         chart
             .draw_series(
                 bars.iter()
                     .map(|&(l, lo, hi)| PathElement::new(vec![(l, lo), (l, hi)], bar)),
             )
-            .map_err(s)?
-            .label("spread of W over the transients")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y - 7), (x, y + 7)], bar));
+            .map_err(s)?;
 
-        self.draw_limit(&mut chart, y0, y1, (a, b), (y0 * y1).sqrt())?;
-        if let Some((_, l3)) = memory_window(self.points) {
-            if l3 > a && l3 < b {
-                let style = GREY.stroke_width(2);
-                Pattern::Dotted.draw(&mut chart, vec![(l3, y0), (l3, y1)], style)?;
-                chart
-                    .draw_series(std::iter::once(Text::new(
-                        "λ₃",
-                        (l3 + 0.008 * (b - a), (y0 * y1).sqrt()),
-                        font(18.0),
-                    )))
-                    .map_err(s)?
-                    .label(format!(
-                        "λ₃ = {l3}: from here every transient ratchets, same W"
-                    ))
-                    .legend(move |c| line_sample!(Pattern::Dotted, c, style));
-            }
+        if let Some(l2) = self.limit_drawn().filter(|l| *l > a && *l < b) {
+            self.draw_limit(&mut chart, pen, l2, y0, y1, (a, b), (y0 * y1).sqrt())?;
         }
-        self.draw_marks(&mut chart, &pts, |_| true)?;
-        legend(&mut chart, SeriesLabelPosition::LowerRight)
+        if let Some(l3) = self.lambda_3_drawn() {
+            Pattern::Dotted.draw(&mut chart, vec![(l3, y0), (l3, y1)], pen.line(GREY, 2.0))?;
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    "λ₃",
+                    (l3 + 0.008 * (b - a), (y0 * y1).sqrt()),
+                    pen.text(),
+                )))
+                .map_err(s)?;
+        }
+        self.draw_marks(&mut chart, pen, &pts)
     }
 }
-
 #[cfg(test)]
 mod tests {
     use super::*;

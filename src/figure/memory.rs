@@ -3,53 +3,140 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::style::{font, legend, line_sample, padded, s, Drawing, Pattern, DARK_RED, GREY};
+use super::style::{
+    padded, readable, s, Drawing, FigureStyle, Key, Pattern, Pen, Sample, DARK_RED, GREY,
+};
 use crate::analysis::memory::{ratchetting_onset, MemoryPoint};
 
 /// `R` and `r` against `lambda` (Fig. 4).
 pub struct MemoryPlot<'a> {
     /// One point per `lambda`.
     pub points: &'a [MemoryPoint],
-    /// The plot title.
+    /// What the figure shows, in words: the start of its caption.
     pub title: String,
+    /// Draw the title on the figure (for slides).
+    pub show_title: bool,
+    /// Where the figure goes.
+    pub style: FigureStyle,
     /// `lambda_2` to mark.
     pub limit: Option<f64>,
 }
 
-impl Drawing for MemoryPlot<'_> {
-    fn size(&self) -> (u32, u32) {
-        (960, 640)
-    }
+const R_LABEL: &str = "R = (max W − min W) / mean W  (eq. 17)";
+const SMALL_R_LABEL: &str = "r: fraction slipped in OIA that stays stuck after A";
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+impl MemoryPlot<'_> {
+    fn x_range(&self) -> (f64, f64) {
         let xs = self.points.iter().map(|p| p.load_factor);
-        let (x0, x1) = padded(
+        padded(
             xs.clone().fold(f64::MAX, f64::min),
             xs.fold(f64::MIN, f64::max),
-        );
-        let big_r: Vec<(f64, f64)> = self
+        )
+    }
+
+    /// `lambda_2` and `lambda_3` where they fall inside the axis.
+    fn marks(&self) -> Vec<(f64, &'static str)> {
+        let (x0, x1) = self.x_range();
+        [(self.limit, "λ₂"), (ratchetting_onset(self.points), "λ₃")]
+            .into_iter()
+            .filter_map(|(v, n)| v.filter(|v| *v > x0 && *v < x1).map(|v| (v, n)))
+            .collect()
+    }
+
+    fn series(&self) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+        let big_r = self
             .points
             .iter()
             .filter_map(|p| Some((p.load_factor, p.range?)))
             .collect();
-        let small_r: Vec<(f64, f64)> = self
+        let small_r = self
             .points
             .iter()
             .filter(|p| p.shakedown == 0)
             .filter_map(|p| Some((p.load_factor, p.stuck_fraction?)))
             .collect();
+        (big_r, small_r)
+    }
+
+    fn key(&self) -> Key {
+        let (big_r, small_r) = self.series();
+        let mut key = Key::default();
+        if !big_r.is_empty() {
+            key.push(Sample::Line(Pattern::Solid, BLACK, 1.5), R_LABEL);
+        }
+        if !small_r.is_empty() {
+            key.push(Sample::Line(Pattern::Solid, DARK_RED, 1.5), SMALL_R_LABEL);
+        }
+        for (v, name) in self.marks() {
+            key.push(
+                Sample::Line(Pattern::Dashed, GREY, 1.0),
+                format!("{name} = {}", readable(v)),
+            );
+        }
+        key
+    }
+
+    fn panel_aspect(&self) -> f64 {
+        match self.style {
+            FigureStyle::Paper1Col => 0.75,
+            _ => 0.55,
+        }
+    }
+}
+
+impl Drawing for MemoryPlot<'_> {
+    fn style(&self) -> FigureStyle {
+        self.style
+    }
+
+    fn aspect(&self) -> f64 {
+        let width = self.style.width_pt();
+        let title = if self.show_title {
+            2.0 * self.style.font_pt()
+        } else {
+            0.0
+        };
+        self.panel_aspect() + (self.key().height_pt(self.style, width) + title) / width
+    }
+
+    fn caption(&self) -> String {
+        let mut text = self.title.trim_end_matches('.').to_string();
+        text.push_str(". R, the spread of W over the transients (black, circles), and r, the fraction of the interface that slipped in OIA and stays stuck after A (red, triangles), against λ.");
+        for (v, name) in self.marks() {
+            text.push_str(&format!(" {name} = {}.", readable(v)));
+        }
+        text
+    }
+
+    fn title(&self) -> Option<&str> {
+        self.show_title.then_some(self.title.as_str())
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String> {
+        let key = self.key();
+        let h = root.dim_in_pixel().1;
+        let key_h = pen.px(key.height_pt(self.style, self.style.width_pt())) as u32;
+        let (root, key_area) = root.split_vertically(h.saturating_sub(key_h));
+        key.draw(&key_area, pen)?;
+        let (x0, x1) = self.x_range();
+        let (big_r, small_r) = self.series();
         let ymax = big_r
             .iter()
             .chain(&small_r)
             .map(|p| p.1)
             .fold(0.0, f64::max)
             .max(0.1)
-            * 1.1;
-        let mut chart = ChartBuilder::on(root)
-            .caption(&self.title, font(20.0))
-            .margin(14)
-            .x_label_area_size(48)
-            .y_label_area_size(64)
+            * 1.05;
+        let f = pen.text_pt();
+        let mut chart = ChartBuilder::on(&root)
+            .margin(pen.px(0.8 * f))
+            .margin_right(pen.px(1.6 * f))
+            .x_label_area_size(pen.px(2.9 * f))
+            .y_label_area_size(pen.px(4.0 * f))
             .build_cartesian_2d(x0..x1, 0.0..ymax)
             .map_err(s)?;
         chart
@@ -57,58 +144,39 @@ impl Drawing for MemoryPlot<'_> {
             .disable_mesh()
             .x_desc("λ")
             .y_desc("R,  r")
-            .axis_desc_style(font(20.0))
-            .label_style(font(14.0))
+            .axis_desc_style(pen.text())
+            .label_style(pen.tick())
+            .axis_style(pen.line(BLACK, 1.0))
+            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
-        let black = BLACK.stroke_width(2);
+        let (r, black, red) = (pen.mark(0.8), pen.line(BLACK, 1.5), pen.line(DARK_RED, 1.5));
         chart
             .draw_series(LineSeries::new(big_r.clone(), black))
-            .map_err(s)?
-            .label("R = (max W − min W) / mean W  (eq. 17)")
-            .legend(move |c| {
-                EmptyElement::at(c)
-                    + PathElement::new(vec![(-12, 0), (12, 0)], black)
-                    + Circle::new((0, 0), 3, BLACK.filled())
-            });
-        chart
-            .draw_series(big_r.iter().map(|&p| Circle::new(p, 3, BLACK.filled())))
             .map_err(s)?;
-        let red = DARK_RED.stroke_width(2);
+        chart
+            .draw_series(big_r.iter().map(|&p| Circle::new(p, r, BLACK.filled())))
+            .map_err(s)?;
         chart
             .draw_series(LineSeries::new(small_r.clone(), red))
-            .map_err(s)?
-            .label("r: fraction slipped in OIA that stays stuck after A")
-            .legend(move |c| {
-                EmptyElement::at(c)
-                    + PathElement::new(vec![(-12, 0), (12, 0)], red)
-                    + TriangleMarker::new((0, 0), 4, DARK_RED.filled())
-            });
+            .map_err(s)?;
         chart
             .draw_series(
                 small_r
                     .iter()
-                    .map(|&p| TriangleMarker::new(p, 4, DARK_RED.filled())),
+                    .map(|&p| TriangleMarker::new(p, r + 1, DARK_RED.filled())),
             )
             .map_err(s)?;
-        let marks = [(self.limit, "λ₂"), (ratchetting_onset(self.points), "λ₃")];
-        for (value, name) in marks {
-            let Some(v) = value else { continue };
-            if v <= x0 || v >= x1 {
-                continue;
-            }
-            let style = GREY.stroke_width(1);
-            Pattern::Dashed.draw(&mut chart, vec![(v, 0.0), (v, ymax)], style)?;
+        for (v, name) in self.marks() {
+            Pattern::Dashed.draw(&mut chart, vec![(v, 0.0), (v, ymax)], pen.line(GREY, 1.0))?;
             chart
                 .draw_series(std::iter::once(Text::new(
-                    format!("{name} = {v:.3}"),
+                    name,
                     (v + 0.01 * (x1 - x0), 0.55 * ymax),
-                    font(15.0),
+                    pen.text(),
                 )))
-                .map_err(s)?
-                .label(format!("{name} = {v:.3}"))
-                .legend(move |c| line_sample!(Pattern::Dashed, c, style));
+                .map_err(s)?;
         }
-        legend(&mut chart, SeriesLabelPosition::UpperRight)
+        Ok(())
     }
 }

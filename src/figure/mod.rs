@@ -2,8 +2,11 @@
 //! PNG. The data behind them come from [`crate::analysis`]; this module
 //! only draws:
 //!
-//! * [`style`]: the font, the SVG + PNG writer, the paper's state markers,
-//!   colours, line patterns and the slip-direction names;
+//! * [`style`]: where a figure goes ([`FigureStyle`]: a one- or
+//!   two-column journal figure or a slide, in points), the font, the SVG +
+//!   PNG writer, the key beside the plot, axis labels as journals print
+//!   them, the paper's state markers, colours, line patterns and the
+//!   slip-direction names;
 //! * [`dissipation`]: Figs. 3, 6, 8, 9, sweeps ([`crate::analysis::sweep`])
 //!   of steady-state `W` with its state against `lambda` or `phi`, with a
 //!   log panel of the memory of the transient;
@@ -15,6 +18,7 @@
 //!   from a figure's CSV.
 
 pub mod data;
+pub mod design;
 pub mod dissipation;
 pub mod memory;
 pub mod regime;
@@ -26,7 +30,7 @@ pub use dissipation::DissipationPlot;
 pub use memory::MemoryPlot;
 pub use regime::RegimePlot;
 pub use slip_map::{SlipMapPlot, TimeOrigin};
-pub use style::{write_svg_png, Drawing};
+pub use style::{write_svg_png, Drawing, FigureStyle, Pen};
 
 use crate::analysis::limit::LimitError;
 use crate::analysis::memory::MemoryError;

@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::style::{font, legend, line_sample, s, Drawing, Mark, Pattern};
+use super::style::{pow10_label, s, Drawing, FigureStyle, Key, Mark, Pattern, Pen, Sample};
 use crate::analysis::regime::RegimeMap;
 use crate::io::preset::RatchettingMarkers;
 use crate::palette::{shade, Rgb, Shading};
@@ -19,8 +19,12 @@ pub struct RegimePlot<'a> {
     pub map: &'a RegimeMap,
     /// `(phi, lambda_2)` pairs, ascending in `phi`.
     pub limit: &'a [(f64, f64)],
-    /// The plot title.
+    /// What the figure shows, in words: the start of its caption.
     pub title: String,
+    /// Draw the title on the figure (for slides).
+    pub show_title: bool,
+    /// Where the figure goes.
+    pub style: FigureStyle,
     /// Mark the lines of the paper's Figs. 3 (`phi = 0`), 6 (`lambda = 5.1`)
     /// and 8 (`phi = pi/2`), where they cross the map.
     pub paper_lines: bool,
@@ -34,12 +38,148 @@ fn rgb(c: Rgb) -> RGBColor {
     RGBColor(c.0, c.1, c.2)
 }
 
-impl Drawing for RegimePlot<'_> {
-    fn size(&self) -> (u32, u32) {
-        (1100, 760)
+impl RegimePlot<'_> {
+    /// The marks of the states on the map, in key order.
+    fn present(&self) -> Vec<Mark> {
+        let map = self.map;
+        let (nl, np) = (map.load_factors().len(), map.phases().len());
+        let mut present = Vec::new();
+        for j in 0..np {
+            for i in 0..nl {
+                if let Some(cell) = map.cell(i, j) {
+                    let mark = Mark::of(cell.state, RatchettingMarkers::Monotonicity);
+                    if !present.contains(&mark) {
+                        present.push(mark);
+                    }
+                }
+            }
+        }
+        Mark::ORDER
+            .into_iter()
+            .filter(|m| present.contains(m))
+            .collect()
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+    fn has_curve(&self) -> bool {
+        self.limit.iter().any(|(_, l)| l.is_finite())
+    }
+
+    fn shading_note(&self) -> String {
+        let shading = Shading::of(self.map);
+        let whi = self.map.dissipation_range().map_or(1.0, |r| r.1);
+        format!(
+            "shading: darker is larger W, on a log scale from {} to {}",
+            pow10_or_value(10f64.powf(shading.lo)),
+            pow10_or_value(whi)
+        )
+    }
+
+    fn key(&self) -> Key {
+        let mut key = Key::default();
+        for mark in self.present() {
+            let base = mark.map_colour();
+            let sample = if crate::palette::is_shaded(match mark {
+                Mark::Failed => None,
+                _ => Some(state_of(mark)),
+            }) {
+                Sample::Ramp([
+                    rgb(shade(base, 0.0)),
+                    rgb(shade(base, 0.5)),
+                    rgb(shade(base, 1.0)),
+                ])
+            } else {
+                Sample::Swatch(rgb(base))
+            };
+            let label = match mark {
+                Mark::GrossSlip => "gross slip",
+                Mark::Separation => "separation",
+                Mark::Failed => "failed numerically",
+                m => m.label(),
+            };
+            key.push(sample, label);
+        }
+        if self.has_curve() {
+            key.push(
+                Sample::Line(Pattern::Solid, BLACK, 2.0),
+                "λ₂(φ), linear programme",
+            );
+        }
+        if self.paper_lines {
+            key.push(
+                Sample::Line(Pattern::Dotted, RGBColor(90, 90, 90), 1.0),
+                "the lines of the paper's Figs. 3, 6 and 8",
+            );
+        }
+        key.push(Sample::Text, self.shading_note());
+        key
+    }
+}
+
+/// The state a mark stands for on the map (not for [`Mark::Failed`]).
+fn state_of(mark: Mark) -> crate::stepping::steady::SteadyState {
+    use crate::stepping::steady::SteadyState as S;
+    match mark {
+        Mark::Shakedown => S::Shakedown,
+        Mark::CyclicSlip => S::CyclicSlip,
+        Mark::Ratchetting | Mark::Monotonic => S::RatchettingMonotonic,
+        Mark::NonMonotonic => S::RatchettingNonMonotonic,
+        Mark::GrossSlip => S::GrossSlip,
+        Mark::Separation => S::Separation,
+        Mark::NotConverged | Mark::Failed => S::NotConverged,
+    }
+}
+
+/// `10⁻⁵` for a power of ten, else the value rounded for reading.
+fn pow10_or_value(v: f64) -> String {
+    let p = pow10_label(&v);
+    if p.is_empty() {
+        super::style::readable(v)
+    } else {
+        p
+    }
+}
+
+impl Drawing for RegimePlot<'_> {
+    fn style(&self) -> FigureStyle {
+        self.style
+    }
+
+    fn aspect(&self) -> f64 {
+        let width = self.style.width_pt();
+        let title = if self.show_title {
+            2.0 * self.style.font_pt()
+        } else {
+            0.0
+        };
+        let panel = match self.style {
+            FigureStyle::Paper1Col => 0.8,
+            _ => 0.6,
+        };
+        panel + (self.key().height_pt(self.style, width) + title) / width
+    }
+
+    fn caption(&self) -> String {
+        format!(
+            "{}. Each cell is the steady state of one run, in its state's colour; {}. The solid line is λ₂(φ) of the linear programme.{}",
+            self.title.trim_end_matches('.'),
+            self.shading_note(),
+            if self.paper_lines {
+                " Dotted: the lines of the paper's Figs. 3 (φ = 0), 6 (λ = 5.1) and 8 (φ = π/2)."
+            } else {
+                ""
+            }
+        )
+    }
+
+    fn title(&self) -> Option<&str> {
+        self.show_title.then_some(self.title.as_str())
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String> {
         let map = self.map;
         let (nl, np) = (map.load_factors().len(), map.phases().len());
         if nl == 0 || np == 0 {
@@ -49,12 +189,17 @@ impl Drawing for RegimePlot<'_> {
         let x1 = map.cell_bounds(nl - 1, 0).0 .1;
         let y0 = map.cell_bounds(0, 0).1 .0 / PI;
         let y1 = map.cell_bounds(0, np - 1).1 .1 / PI;
-        let root = root.titled(&self.title, font(22.0)).map_err(s)?;
-        let (plot, key) = root.split_horizontally(800);
+        let key = self.key();
+        let h = root.dim_in_pixel().1;
+        let key_h = pen.px(key.height_pt(self.style, self.style.width_pt())) as u32;
+        let (plot, key_area) = root.split_vertically(h.saturating_sub(key_h));
+        key.draw(&key_area, pen)?;
+        let f = pen.text_pt();
         let mut chart = ChartBuilder::on(&plot)
-            .margin(14)
-            .x_label_area_size(50)
-            .y_label_area_size(70)
+            .margin(pen.px(0.8 * f))
+            .margin_right(pen.px(1.6 * f))
+            .x_label_area_size(pen.px(2.9 * f))
+            .y_label_area_size(pen.px(4.0 * f))
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(s)?;
         chart
@@ -62,26 +207,19 @@ impl Drawing for RegimePlot<'_> {
             .disable_mesh()
             .x_desc("λ")
             .y_desc("φ / π")
-            .axis_desc_style(font(20.0))
-            .label_style(font(14.0))
+            .axis_desc_style(pen.text())
+            .label_style(pen.tick())
+            .axis_style(pen.line(BLACK, 1.0))
+            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
 
         // Cells: the state's colour, darker for larger W (log scale).
-        let whi = map.dissipation_range().map_or(1.0, |r| r.1);
         let shading = Shading::of(map);
         let mut rects = Vec::with_capacity(nl * np);
-        let mut present = Vec::new();
         for j in 0..np {
             for i in 0..nl {
                 let Some(cell) = map.cell(i, j) else { continue };
-                let mark = match cell.state {
-                    Some(st) => Mark::of(st, RatchettingMarkers::Monotonicity),
-                    None => Mark::Ended,
-                };
-                if !present.contains(&mark) {
-                    present.push(mark);
-                }
                 let ((a, b), (c, d)) = map.cell_bounds(i, j);
                 rects.push(Rectangle::new(
                     [(a, c / PI), (b, d / PI)],
@@ -93,7 +231,7 @@ impl Drawing for RegimePlot<'_> {
 
         // The paper's figures as lines of the plane.
         if self.paper_lines {
-            let style = BLACK.mix(0.55).stroke_width(1);
+            let style = pen.line(RGBColor(90, 90, 90), 1.0);
             let lines: [PaperLine; 3] = [
                 (
                     "Fig. 3",
@@ -119,8 +257,7 @@ impl Drawing for RegimePlot<'_> {
                     continue;
                 }
                 Pattern::Dotted.draw(&mut chart, pts, style)?;
-                let grey = BLACK.mix(0.8);
-                let text = font(14.0).color(&grey);
+                let text = pen.tick().color(&RGBColor(50, 50, 50));
                 chart
                     .draw_series(std::iter::once(Text::new(name, at, text)))
                     .map_err(s)?;
@@ -135,62 +272,16 @@ impl Drawing for RegimePlot<'_> {
             .map(|&(p, l)| (l.clamp(x0, x1), p / PI))
             .collect();
         if !curve.is_empty() {
-            let style = BLACK.stroke_width(3);
             chart
-                .draw_series(LineSeries::new(curve.clone(), style))
-                .map_err(s)?
-                .label("λ₂(φ), linear programme")
-                .legend(move |c| line_sample!(Pattern::Solid, c, style));
+                .draw_series(LineSeries::new(curve.clone(), pen.line(BLACK, 2.0)))
+                .map_err(s)?;
             chart
-                .draw_series(curve.iter().map(|&c| Circle::new(c, 3, BLACK.filled())))
+                .draw_series(
+                    curve
+                        .iter()
+                        .map(|&c| Circle::new(c, pen.mark(0.6), BLACK.filled())),
+                )
                 .map_err(s)?;
-            legend(&mut chart, SeriesLabelPosition::UpperRight)?;
-        }
-
-        // The key: one swatch per state, light to dark for small to large W.
-        let mut y = 40;
-        key.draw(&Text::new("steady state", (10, y), font(17.0)))
-            .map_err(s)?;
-        y += 30;
-        for mark in Mark::ORDER {
-            if !present.contains(&mark) {
-                continue;
-            }
-            let shades: &[f64] = if matches!(mark, Mark::Shakedown | Mark::Ended) {
-                &[0.0]
-            } else {
-                &[0.0, 0.5, 1.0]
-            };
-            for (k, &t) in shades.iter().enumerate() {
-                let x = 10 + 18 * k as i32;
-                key.draw(&Rectangle::new(
-                    [(x, y), (x + 16, y + 16)],
-                    rgb(shade(mark.map_colour(), t)).filled(),
-                ))
-                .map_err(s)?;
-            }
-            let label = if mark == Mark::Ended {
-                "gross slip / separation / failed"
-            } else {
-                mark.label()
-            };
-            key.draw(&Text::new(label, (70, y), font(14.0)))
-                .map_err(s)?;
-            y += 28;
-        }
-        y += 14;
-        for line in [
-            "Shading: darker is larger W,".to_string(),
-            format!(
-                "log scale from {:.0e} to {:.0e}.",
-                10f64.powf(shading.lo),
-                whi
-            ),
-            "Dotted: the lines of the".to_string(),
-            "paper's Figs. 3, 6 and 8.".to_string(),
-        ] {
-            key.draw(&Text::new(line, (10, y), font(14.0))).map_err(s)?;
-            y += 20;
         }
         Ok(())
     }

@@ -9,17 +9,19 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::style::{
-    direction_colour, direction_label, directions_forward_first, font, padded, pi_label, s,
-    Drawing, GREEN_LINE,
+    direction_colour, direction_label, directions_forward_first, padded, pi_label, readable, s,
+    Drawing, FigureStyle, Key, Pattern, Pen, Sample, GREEN_LINE,
 };
 use crate::analysis::slip_map::SlipMap;
+use crate::contact::SlipDirection;
 use crate::io::parse::{parse_angle, ParseError};
 
 /// Where the drawn cycle starts (`omega t` at the bottom of the axes).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum TimeOrigin {
-    /// In the middle of the longest slip-free stretch of the cycle, else
-    /// at the instant with the least slip ([`auto_origin`]).
+    /// At `omega t = 0` when no slip event runs through it, else in the
+    /// middle of the longest slip-free stretch of the cycle, else at the
+    /// instant with the least slip ([`auto_origin`]).
     #[default]
     Auto,
     /// At this `omega t` (radians).
@@ -47,12 +49,18 @@ impl TimeOrigin {
     }
 }
 
-/// The middle of the longest slip-free stretch of the cycle (taken round
-/// the cycle, so a stretch may wrap through `2 pi`): the slip events then
-/// sit whole in the middle of the axis. When every increment has slip
-/// somewhere, the start of the one in which the fewest nodes slip.
+/// `0` when the increments either side of `omega t = 0` are slip-free, so
+/// no slip event is cut there; else the middle of the longest slip-free
+/// stretch of the cycle (taken round the cycle, so a stretch may wrap
+/// through `2 pi`): the slip events then sit whole in the middle of the
+/// axis. When every increment has slip somewhere, the start of the one in
+/// which the fewest nodes slip.
 pub fn auto_origin(map: &SlipMap) -> f64 {
     let n = map.rows.len();
+    let quiet = |k: usize| !map.rows[k].directions.iter().any(|d| d.is_slipping());
+    if n > 0 && quiet(0) && quiet(n - 1) {
+        return 0.0;
+    }
     let slipping = |k: usize| {
         map.rows[k % n]
             .directions
@@ -111,107 +119,226 @@ fn shifted(t0: f64, t1: f64, origin: f64) -> Vec<(f64, f64)> {
 pub struct SlipMapPlot<'a> {
     /// The slip map.
     pub map: &'a SlipMap,
-    /// The plot title.
+    /// What the figure shows, in words: the start of its caption.
     pub title: String,
+    /// Draw the title on the figure (for slides).
+    pub show_title: bool,
+    /// Where the figure goes.
+    pub style: FigureStyle,
     /// Where the drawn cycle starts.
     pub origin: TimeOrigin,
 }
 
-impl Drawing for SlipMapPlot<'_> {
-    fn size(&self) -> (u32, u32) {
-        (1100, 680)
+/// A slip zone in one increment: `theta / pi` from `lo` to `hi`, its
+/// direction.
+type Run = (f64, f64, SlipDirection);
+
+/// The slipping runs of one row, in display order from `theta = -pi`.
+fn runs(map: &SlipMap, directions: &[SlipDirection]) -> Vec<Run> {
+    let n = map.nodes;
+    let half = 1.0 / n as f64;
+    let order: Vec<usize> = (0..n).map(|k| (k + n / 2) % n).collect();
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < n {
+        let d = directions[order[k]];
+        let mut end = k + 1;
+        while end < n && directions[order[end]] == d {
+            end += 1;
+        }
+        if d.is_slipping() {
+            out.push((
+                map.theta(order[k]) / PI - half,
+                map.theta(order[end - 1]) / PI + half,
+                d,
+            ));
+        }
+        k = end;
+    }
+    out
+}
+
+/// The slip zones as smooth bands: quadrilaterals joining each zone's
+/// edges at the middle of one increment to those of the zone it overlaps
+/// in the next, and half-increment caps where a zone appears or vanishes.
+/// `rows` are `(t0, t1, runs)` in drawn time (units of pi), in order.
+fn bands(rows: &[(f64, f64, Vec<Run>)]) -> Vec<(Vec<(f64, f64)>, SlipDirection)> {
+    let mut out = Vec::new();
+    let overlaps = |a: &Run, b: &Run| a.2 == b.2 && a.0 <= b.1 + 1e-9 && b.0 <= a.1 + 1e-9;
+    let rect = |lo: f64, hi: f64, t0: f64, t1: f64| vec![(lo, t0), (hi, t0), (hi, t1), (lo, t1)];
+    for (k, (t0, t1, runs)) in rows.iter().enumerate() {
+        let mid = 0.5 * (t0 + t1);
+        // Adjacent rows only: not across a gap (the ends of the axis).
+        let prev = k
+            .checked_sub(1)
+            .map(|j| &rows[j])
+            .filter(|r| (r.1 - t0).abs() < 1e-9);
+        let next = rows.get(k + 1).filter(|r| (r.0 - t1).abs() < 1e-9);
+        for run in runs {
+            if !prev.is_some_and(|p| p.2.iter().any(|q| overlaps(q, run))) {
+                out.push((rect(run.0, run.1, *t0, mid), run.2));
+            }
+            match next {
+                Some(nx) if nx.2.iter().any(|q| overlaps(q, run)) => {
+                    let nmid = 0.5 * (nx.0 + nx.1);
+                    for q in nx.2.iter().filter(|q| overlaps(q, run)) {
+                        out.push((
+                            vec![(run.0, mid), (run.1, mid), (q.1, nmid), (q.0, nmid)],
+                            run.2,
+                        ));
+                    }
+                }
+                _ => out.push((rect(run.0, run.1, mid, *t1), run.2)),
+            }
+        }
+    }
+    out
+}
+
+impl SlipMapPlot<'_> {
+    /// The directions that occur in the cycle, the paper's forward first.
+    fn directions(&self) -> Vec<SlipDirection> {
+        directions_forward_first()
+            .into_iter()
+            .filter(|d| self.map.rows.iter().any(|r| r.directions.contains(d)))
+            .collect()
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+    fn key(&self) -> Key {
+        let mut key = Key::default();
+        for d in self.directions() {
+            key.push(Sample::Swatch(direction_colour(d)), direction_label(d));
+        }
+        key.push(Sample::Line(Pattern::Solid, BLACK, 1.5), "(b) χP/(f p₀ a)");
+        key.push(
+            Sample::Line(Pattern::Solid, GREEN_LINE, 1.5),
+            "(b) T/(f p₀ a²)",
+        );
+        key
+    }
+
+    /// The name of the time axis: `ωt`, or `ω(t − t₀)` when the drawn
+    /// cycle does not start at `t = 0`.
+    fn time_desc(&self) -> &'static str {
+        if self.origin.resolve(self.map) == 0.0 {
+            "ωt"
+        } else {
+            "ω(t − t₀)"
+        }
+    }
+}
+
+impl Drawing for SlipMapPlot<'_> {
+    fn style(&self) -> FigureStyle {
+        self.style
+    }
+
+    fn aspect(&self) -> f64 {
+        let width = self.style.width_pt();
+        let title = if self.show_title {
+            2.0 * self.style.font_pt()
+        } else {
+            0.0
+        };
+        let panel = match self.style {
+            FigureStyle::Paper1Col => 0.85,
+            _ => 0.55,
+        };
+        panel + (self.key().height_pt(self.style, width) + title) / width
+    }
+
+    fn caption(&self) -> String {
         let map = self.map;
         let origin = self.origin.resolve(map);
-        let (o0, o1) = (origin / PI, origin / PI + 2.0);
-        let title = format!(
-            "{}: {}, dissipation {:.4e} per cycle",
-            self.title, map.summary.state, map.summary.dissipation
-        );
-        let root = root.titled(&title, font(20.0)).map_err(s)?;
-        let (key, root) = root.split_vertically(34);
-        // The key of the slip directions, in the paper's words.
-        let mut x = 80;
-        for d in directions_forward_first() {
-            key.draw(&Rectangle::new(
-                [(x, 10), (x + 22, 26)],
-                direction_colour(d).filled(),
-            ))
-            .map_err(s)?;
-            let label = direction_label(d);
-            key.draw(&Text::new(label, (x + 30, 10), font(15.0)))
-                .map_err(s)?;
-            x += 40 + 8 * label.chars().count() as i32;
-        }
-        let (left, right) = root.split_horizontally(660);
+        let time = if origin == 0.0 {
+            "ωt runs over one steady cycle from 0".to_string()
+        } else {
+            format!(
+                "time is drawn from ωt₀ = {} (so that no slip event is cut in two)",
+                pi_label(&(origin / PI))
+            )
+        };
+        format!(
+            "{}: {}, W = {} per cycle. (a) Slip zones over one steady cycle against θ; (b) the load against the same time; {time}.",
+            self.title.trim_end_matches('.'),
+            map.summary.state,
+            readable(map.summary.dissipation)
+        )
+    }
 
-        // (a) the slip map: theta across, omega t up, in units of pi.
+    fn title(&self) -> Option<&str> {
+        self.show_title.then_some(self.title.as_str())
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String> {
+        let map = self.map;
+        let origin = self.origin.resolve(map);
+        let key = self.key();
+        let (w, h) = root.dim_in_pixel();
+        let key_h = pen.px(key.height_pt(self.style, self.style.width_pt())) as u32;
+        let (root, key_area) = root.split_vertically(h.saturating_sub(key_h));
+        key.draw(&key_area, pen)?;
+        let (left, right) = root.split_horizontally(w * 3 / 5);
+        let f = pen.text_pt();
+        let t_desc = self.time_desc();
+
+        // (a) the slip map: theta across, time up, in units of pi, from 0.
         let mut chart = ChartBuilder::on(&left)
-            .caption("(a) slip over one steady cycle", font(16.0))
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(64)
-            .build_cartesian_2d(-1.0..1.0, o0..o1)
+            .caption("(a)", pen.text())
+            .margin(pen.px(0.8 * f))
+            .margin_right(pen.px(1.6 * f))
+            .x_label_area_size(pen.px(2.9 * f))
+            .y_label_area_size(pen.px(4.0 * f))
+            .build_cartesian_2d(-1.0..1.0, 0.0..2.0)
             .map_err(s)?;
         chart
             .configure_mesh()
             .disable_mesh()
             .x_desc("θ")
-            .y_desc("ωt")
-            .axis_desc_style(font(20.0))
-            .label_style(font(14.0))
-            .x_labels(9)
+            .y_desc(t_desc)
+            .axis_desc_style(pen.text())
+            .label_style(pen.tick())
+            .axis_style(pen.line(BLACK, 1.0))
+            .set_all_tick_mark_size(pen.px(0.35 * f))
+            .x_labels(5)
             .y_labels(9)
             .x_label_formatter(&pi_label)
             .y_label_formatter(&pi_label)
             .draw()
             .map_err(s)?;
-        let n = map.nodes;
-        let half = 1.0 / n as f64;
-        // Nodes in display order from theta = -pi up; runs of one direction
-        // become one rectangle.
-        let order: Vec<usize> = (0..n).map(|k| (k + n / 2) % n).collect();
-        let mut cells = Vec::new();
+        let mut rows: Vec<(f64, f64, Vec<Run>)> = Vec::new();
         for r in &map.rows {
-            let mut k = 0;
-            while k < n {
-                let d = r.directions[order[k]];
-                let mut end = k + 1;
-                while end < n && r.directions[order[end]] == d {
-                    end += 1;
-                }
-                if d.is_slipping() {
-                    let lo = map.theta(order[k]) / PI - half;
-                    let hi = map.theta(order[end - 1]) / PI + half;
-                    for (a, b) in shifted(r.t0, r.t1, origin) {
-                        cells.push((lo, hi, a / PI, b / PI, d));
-                    }
-                }
-                k = end;
+            let rs = runs(map, &r.directions);
+            for (a, b) in shifted(r.t0, r.t1, origin) {
+                rows.push(((a - origin) / PI, (b - origin) / PI, rs.clone()));
             }
         }
-        for dir in directions_forward_first() {
+        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let shapes = bands(&rows);
+        for dir in self.directions() {
             let colour = direction_colour(dir);
             chart
                 .draw_series(
-                    cells
+                    shapes
                         .iter()
-                        .filter(|c| c.4 == dir)
-                        .map(|c| Rectangle::new([(c.0, c.2), (c.1, c.3)], colour.filled())),
+                        .filter(|c| c.1 == dir)
+                        .map(|c| Polygon::new(c.0.clone(), colour.filled())),
                 )
                 .map_err(s)?;
         }
 
-        // (b) the load variation against the same omega t.
+        // (b) the load variation against the same time.
         let mut load: Vec<(f64, f64, f64)> = vec![(0.0, map.start.x(), map.start.y())];
         load.extend(map.rows.iter().map(|r| (r.t1, r.load.x(), r.load.y())));
         let mut drawn: Vec<(f64, f64, f64)> = load
             .iter()
             .map(|&(t, x, y)| {
                 let t = if t < origin - 1e-9 { t + 2.0 * PI } else { t };
-                (t / PI, x, y)
+                ((t - origin) / PI, x, y)
             })
             .collect();
         drawn.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -219,35 +346,37 @@ impl Drawing for SlipMapPlot<'_> {
         let hi = load.iter().map(|p| p.1.max(p.2)).fold(f64::MIN, f64::max);
         let (lo, hi) = padded(lo, hi);
         let mut chart = ChartBuilder::on(&right)
-            .caption("(b) load: χP/(f p₀ a) black, T/(f p₀ a²) green", font(16.0))
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(52)
-            .build_cartesian_2d(lo..hi, o0..o1)
+            .caption("(b)", pen.text())
+            .margin(pen.px(0.8 * f))
+            .margin_right(pen.px(1.6 * f))
+            .x_label_area_size(pen.px(2.9 * f))
+            .y_label_area_size(pen.px(4.0 * f))
+            .build_cartesian_2d(lo..hi, 0.0..2.0)
             .map_err(s)?;
         chart
             .configure_mesh()
             .disable_mesh()
             .x_desc("load")
-            .y_desc("ωt")
-            .axis_desc_style(font(18.0))
-            .label_style(font(14.0))
+            .y_desc(t_desc)
+            .axis_desc_style(pen.text())
+            .label_style(pen.tick())
+            .axis_style(pen.line(BLACK, 1.0))
+            .set_all_tick_mark_size(pen.px(0.35 * f))
+            .x_labels(5)
             .y_labels(9)
             .y_label_formatter(&pi_label)
             .draw()
             .map_err(s)?;
-        // The series are named in the caption: a legend box would cover
-        // the curves, which fill the panel.
         chart
             .draw_series(LineSeries::new(
                 drawn.iter().map(|p| (p.1, p.0)),
-                BLACK.stroke_width(2),
+                pen.line(BLACK, 1.5),
             ))
             .map_err(s)?;
         chart
             .draw_series(LineSeries::new(
                 drawn.iter().map(|p| (p.2, p.0)),
-                GREEN_LINE.stroke_width(2),
+                pen.line(GREEN_LINE, 1.5),
             ))
             .map_err(s)?;
         Ok(())

@@ -11,6 +11,7 @@ use std::sync::OnceLock;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::{register_font, FontStyle};
 
 use super::FigureError;
@@ -36,12 +37,184 @@ fn ensure_font() -> Result<(), FigureError> {
     }
 }
 
+/// Where a figure goes, which sets its size, fonts, line widths and the
+/// resolution of its PNG (`--style`).
+///
+/// Everything is laid out in points (1/72 inch) at the figure's printed
+/// size; the SVG is written at that size (96 px to the inch, as SVG's user
+/// unit is), the PNG at 600 dpi for a journal (line art) or at 1920 x 1080
+/// pixels for a slide.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FigureStyle {
+    /// A one-column journal figure: 90 mm wide, 7.5 pt text, 600 dpi.
+    Paper1Col,
+    /// A two-column (full-width) journal figure: 190 mm wide, 8.5 pt
+    /// text, 600 dpi.
+    #[default]
+    Paper2Col,
+    /// A 16:9 slide: 1920 x 1080 pixels, 18 pt text, thick lines.
+    Slide,
+}
+
+impl FigureStyle {
+    /// What `--style` accepts.
+    pub const ACCEPTS: &'static str = "paper-1col, paper-2col or slide";
+
+    /// The name `--style` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            FigureStyle::Paper1Col => "paper-1col",
+            FigureStyle::Paper2Col => "paper-2col",
+            FigureStyle::Slide => "slide",
+        }
+    }
+
+    /// Width in points: 90 mm, 190 mm, or a 960 x 540 pt slide.
+    pub fn width_pt(self) -> f64 {
+        match self {
+            FigureStyle::Paper1Col => 90.0 / 25.4 * 72.0,
+            FigureStyle::Paper2Col => 190.0 / 25.4 * 72.0,
+            FigureStyle::Slide => 960.0,
+        }
+    }
+
+    /// Height in points of a figure of `aspect` (height / width): a slide
+    /// is always 16:9.
+    pub fn height_pt(self, aspect: f64) -> f64 {
+        match self {
+            FigureStyle::Slide => 540.0,
+            _ => self.width_pt() * aspect,
+        }
+    }
+
+    /// PNG pixels per point: 600 dpi for a journal's line art, 2 for a
+    /// 1920 x 1080 slide.
+    pub fn png_px_per_pt(self) -> f64 {
+        match self {
+            FigureStyle::Paper1Col | FigureStyle::Paper2Col => 600.0 / 72.0,
+            FigureStyle::Slide => 2.0,
+        }
+    }
+
+    /// Text (axis titles, key) in points.
+    pub fn font_pt(self) -> f64 {
+        match self {
+            FigureStyle::Paper1Col => 7.5,
+            FigureStyle::Paper2Col => 8.5,
+            FigureStyle::Slide => 18.0,
+        }
+    }
+
+    /// Tick labels in points.
+    pub fn tick_pt(self) -> f64 {
+        match self {
+            FigureStyle::Paper1Col => 6.5,
+            FigureStyle::Paper2Col => 7.5,
+            FigureStyle::Slide => 16.0,
+        }
+    }
+
+    /// Line width in points.
+    pub fn line_pt(self) -> f64 {
+        match self {
+            FigureStyle::Paper1Col => 0.6,
+            FigureStyle::Paper2Col => 0.75,
+            FigureStyle::Slide => 1.6,
+        }
+    }
+
+    /// Marker radius in points.
+    pub fn mark_pt(self) -> f64 {
+        match self {
+            FigureStyle::Paper1Col => 1.9,
+            FigureStyle::Paper2Col => 2.3,
+            FigureStyle::Slide => 4.5,
+        }
+    }
+}
+
+impl std::str::FromStr for FigureStyle {
+    type Err = String;
+    fn from_str(text: &str) -> Result<Self, String> {
+        match text.trim() {
+            "paper-1col" => Ok(FigureStyle::Paper1Col),
+            "paper-2col" => Ok(FigureStyle::Paper2Col),
+            "slide" => Ok(FigureStyle::Slide),
+            _ => Err(format!("expected {}", FigureStyle::ACCEPTS)),
+        }
+    }
+}
+
+/// Points to pixels for one backend: every length a figure draws goes
+/// through it, so the SVG and the PNG are the same figure.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pen {
+    /// The figure's style.
+    pub style: FigureStyle,
+    /// Pixels per point.
+    pub scale: f64,
+}
+
+impl Pen {
+    /// `pt` points in pixels.
+    pub fn px(&self, pt: f64) -> i32 {
+        (pt * self.scale).round() as i32
+    }
+    /// `pt` points in pixels, at least one.
+    pub fn upx(&self, pt: f64) -> u32 {
+        self.px(pt).max(1) as u32
+    }
+    /// Text of `pt` points.
+    pub fn font(&self, pt: f64) -> TextStyle<'static> {
+        font(pt * self.scale)
+    }
+    /// The style's text (axis titles, key).
+    pub fn text(&self) -> TextStyle<'static> {
+        self.font(self.style.font_pt())
+    }
+    /// The style's tick labels.
+    pub fn tick(&self) -> TextStyle<'static> {
+        self.font(self.style.tick_pt())
+    }
+    /// The text size in points.
+    pub fn text_pt(&self) -> f64 {
+        self.style.font_pt()
+    }
+    /// A line `factor` times the style's width.
+    pub fn line(&self, colour: RGBColor, factor: f64) -> ShapeStyle {
+        colour.stroke_width(self.upx(self.style.line_pt() * factor))
+    }
+    /// A marker radius `factor` times the style's, in pixels.
+    pub fn mark(&self, factor: f64) -> i32 {
+        self.px(self.style.mark_pt() * factor).max(1)
+    }
+    /// The canvas of a figure of `aspect` (height / width), in pixels.
+    pub fn size(&self, aspect: f64) -> (u32, u32) {
+        (
+            self.upx(self.style.width_pt()),
+            self.upx(self.style.height_pt(aspect)),
+        )
+    }
+}
+
 /// A figure plotters can draw on any backend.
 pub trait Drawing {
-    /// Canvas size in pixels.
-    fn size(&self) -> (u32, u32);
-    /// Draw the figure on `root` (already filled white).
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String>;
+    /// Where the figure goes.
+    fn style(&self) -> FigureStyle;
+    /// Height over width on paper (a slide is always 16:9).
+    fn aspect(&self) -> f64;
+    /// The caption: what an in-figure title would say, written beside the
+    /// figure (`NAME.caption.txt`), as journals want.
+    fn caption(&self) -> String;
+    /// The title drawn on the figure (`--title`, for slides); none by
+    /// default.
+    fn title(&self) -> Option<&str>;
+    /// Draw the figure on `root` (already filled white, the title drawn).
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String>;
 }
 
 fn draw_err(file: &Path, message: impl std::fmt::Display) -> FigureError {
@@ -51,7 +224,25 @@ fn draw_err(file: &Path, message: impl std::fmt::Display) -> FigureError {
     }
 }
 
-/// Draw `d` into an SVG file and a PNG file.
+/// Draw `d` on `root` with `pen`: its title when it has one, then the
+/// figure.
+fn draw_on<D: Drawing, DB: DrawingBackend>(
+    d: &D,
+    root: &DrawingArea<DB, Shift>,
+    pen: &Pen,
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(s)?;
+    match d.title() {
+        Some(t) if !t.is_empty() => {
+            let titled = root.titled(t, pen.font(pen.text_pt() * 1.35)).map_err(s)?;
+            d.draw(&titled, pen)
+        }
+        _ => d.draw(root, pen),
+    }
+}
+
+/// Draw `d` into an SVG file (at its printed size) and a PNG file (at the
+/// style's resolution).
 ///
 /// # Errors
 ///
@@ -59,15 +250,23 @@ fn draw_err(file: &Path, message: impl std::fmt::Display) -> FigureError {
 /// (for example an unwritable path).
 pub fn write_svg_png<D: Drawing>(d: &D, svg: &Path, png: &Path) -> Result<(), FigureError> {
     ensure_font()?;
+    let style = d.style();
     {
-        let root = SVGBackend::new(svg, d.size()).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| draw_err(svg, e))?;
-        d.draw(&root).map_err(|e| draw_err(svg, e))?;
+        // SVG's user unit is the CSS pixel, 1/96 inch.
+        let pen = Pen {
+            style,
+            scale: 96.0 / 72.0,
+        };
+        let root = SVGBackend::new(svg, pen.size(d.aspect())).into_drawing_area();
+        draw_on(d, &root, &pen).map_err(|e| draw_err(svg, e))?;
         root.present().map_err(|e| draw_err(svg, e))?;
     }
-    let root = BitMapBackend::new(png, d.size()).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| draw_err(png, e))?;
-    d.draw(&root).map_err(|e| draw_err(png, e))?;
+    let pen = Pen {
+        style,
+        scale: style.png_px_per_pt(),
+    };
+    let root = BitMapBackend::new(png, pen.size(d.aspect())).into_drawing_area();
+    draw_on(d, &root, &pen).map_err(|e| draw_err(png, e))?;
     root.present().map_err(|e| draw_err(png, e))?;
     Ok(())
 }
@@ -78,21 +277,6 @@ pub(crate) fn font(size: f64) -> TextStyle<'static> {
 
 pub(crate) fn s<E: std::fmt::Display>(e: E) -> String {
     e.to_string()
-}
-
-/// The legend box every plot uses, at `position`.
-pub(crate) fn legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
-    chart: &mut ChartContext<'a, DB, CT>,
-    position: SeriesLabelPosition,
-) -> Result<(), String> {
-    chart
-        .configure_series_labels()
-        .position(position)
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK)
-        .label_font(font(14.0))
-        .draw()
-        .map_err(s)
 }
 
 /// The paper's normalised dissipation `W~` of eq. (16), spelled out
@@ -183,24 +367,11 @@ impl Pattern {
     }
 }
 
-/// A legend sample of `$pattern` ([`Pattern`]) in `$style` at `$at`: four
-/// pieces of line, so a dashed line has a dashed sample.
-macro_rules! line_sample {
-    ($pattern:expr, $at:expr, $style:expr) => {{
-        let [a, b, c, d] = $pattern.pieces();
-        let st: ShapeStyle = $style;
-        EmptyElement::at($at)
-            + PathElement::new(vec![(a.0, 0), (a.1, 0)], st)
-            + PathElement::new(vec![(b.0, 0), (b.1, 0)], st)
-            + PathElement::new(vec![(c.0, 0), (c.1, 0)], st)
-            + PathElement::new(vec![(d.0, 0), (d.1, 0)], st)
-    }};
-}
-pub(crate) use line_sample;
-
 /// How one point is marked, in the paper's conventions: shakedown a black
 /// circle, cyclic slip a red dot, ratchetting a red dot with a blue edge
 /// (Fig. 3) or a blue circle, with a red dot when non-monotonic (Fig. 8).
+/// The runs that end (gross slip, separation) and the runs that failed
+/// each have their own mark, drawn at `W = 0`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Mark {
     Shakedown,
@@ -208,36 +379,55 @@ pub(crate) enum Mark {
     Ratchetting,
     Monotonic,
     NonMonotonic,
-    Ended,
+    GrossSlip,
+    Separation,
     NotConverged,
+    Failed,
 }
 
+/// The brown of separation.
+pub(crate) const BROWN: RGBColor = RGBColor(140, 85, 20);
+/// The magenta of a run that failed numerically.
+pub(crate) const MAGENTA: RGBColor = RGBColor(170, 0, 140);
+
 impl Mark {
-    /// The marks in drawing (and legend) order.
-    pub(crate) const ORDER: [Mark; 7] = [
+    /// The marks in drawing (and key) order: the open rings first, the
+    /// filled dots after, so a dot is never hidden under a ring where
+    /// runs of two states share a point.
+    pub(crate) const ORDER: [Mark; 9] = [
         Mark::Shakedown,
-        Mark::CyclicSlip,
-        Mark::Ratchetting,
         Mark::Monotonic,
         Mark::NonMonotonic,
+        Mark::Ratchetting,
+        Mark::CyclicSlip,
         Mark::NotConverged,
-        Mark::Ended,
+        Mark::GrossSlip,
+        Mark::Separation,
+        Mark::Failed,
     ];
 
-    pub(crate) fn of(state: SteadyState, style: RatchettingMarkers) -> Mark {
+    /// The mark of a run in `state` (`None`: it failed numerically).
+    pub(crate) fn of(state: Option<SteadyState>, style: RatchettingMarkers) -> Mark {
         match state {
-            SteadyState::Shakedown => Mark::Shakedown,
-            SteadyState::CyclicSlip => Mark::CyclicSlip,
-            SteadyState::RatchettingMonotonic | SteadyState::RatchettingNonMonotonic
+            None => Mark::Failed,
+            Some(SteadyState::Shakedown) => Mark::Shakedown,
+            Some(SteadyState::CyclicSlip) => Mark::CyclicSlip,
+            Some(SteadyState::RatchettingMonotonic | SteadyState::RatchettingNonMonotonic)
                 if style == RatchettingMarkers::Edge =>
             {
                 Mark::Ratchetting
             }
-            SteadyState::RatchettingMonotonic => Mark::Monotonic,
-            SteadyState::RatchettingNonMonotonic => Mark::NonMonotonic,
-            SteadyState::GrossSlip | SteadyState::Separation => Mark::Ended,
-            SteadyState::NotConverged => Mark::NotConverged,
+            Some(SteadyState::RatchettingMonotonic) => Mark::Monotonic,
+            Some(SteadyState::RatchettingNonMonotonic) => Mark::NonMonotonic,
+            Some(SteadyState::GrossSlip) => Mark::GrossSlip,
+            Some(SteadyState::Separation) => Mark::Separation,
+            Some(SteadyState::NotConverged) => Mark::NotConverged,
         }
+    }
+
+    /// Whether the run has no steady `W` (drawn at 0).
+    pub(crate) fn at_zero(self) -> bool {
+        matches!(self, Mark::GrossSlip | Mark::Separation | Mark::Failed)
     }
 
     pub(crate) fn label(self) -> &'static str {
@@ -247,38 +437,70 @@ impl Mark {
             Mark::Ratchetting => "ratchetting",
             Mark::Monotonic => "monotonic ratchetting",
             Mark::NonMonotonic => "non-monotonic ratchetting",
-            Mark::Ended => "gross slip / separation (drawn at 0)",
+            Mark::GrossSlip => "gross slip (drawn at 0)",
+            Mark::Separation => "separation (drawn at 0)",
             Mark::NotConverged => "not converged (cycle cap)",
+            Mark::Failed => "failed numerically (drawn at 0)",
         }
     }
 
-    /// Two circles and a cross, drawn in this order: radius and style each;
-    /// unused parts are transparent. `scale` shrinks the radii (for plots
-    /// with lines, so the lines show between the marks).
-    pub(crate) fn parts(self, small: bool) -> [(i32, ShapeStyle); 3] {
+    /// Two circles, a cross and a closed outline, drawn in this order:
+    /// radius (or outline) and style each, in pixels of `pen`; unused
+    /// parts are transparent or empty. `small` shrinks the marks (for
+    /// plots with lines, so the lines show between them).
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn parts(
+        self,
+        pen: &Pen,
+        small: bool,
+    ) -> ([(i32, ShapeStyle); 3], (Vec<(i32, i32)>, ShapeStyle)) {
         let none = (0, TRANSPARENT.into());
-        let r = |v: i32| if small { (v * 3 + 2) / 4 } else { v };
-        match self {
-            Mark::Shakedown => [(r(4), BLACK.stroke_width(1)), none, none],
-            Mark::CyclicSlip => [none, (r(3), DARK_RED.filled()), none],
+        let k = if small { 0.8 } else { 1.0 };
+        let r = |f: f64| pen.mark(f * k);
+        let w = |f: f64| pen.upx(pen.style.line_pt() * f);
+        let no_path = (Vec::new(), TRANSPARENT.into());
+        let circles = match self {
+            Mark::Shakedown => [(r(1.0), BLACK.stroke_width(w(1.0))), none, none],
+            Mark::CyclicSlip => [none, (r(0.6), DARK_RED.filled()), none],
             Mark::Ratchetting => [
-                (r(4), DARK_RED.filled()),
-                (r(5), DARK_BLUE.stroke_width(2)),
+                (r(0.75), DARK_RED.filled()),
+                (r(1.1), DARK_BLUE.stroke_width(w(1.4))),
                 none,
             ],
-            Mark::Monotonic => [(r(4), DARK_BLUE.stroke_width(2)), none, none],
+            Mark::Monotonic => [(r(1.0), DARK_BLUE.stroke_width(w(1.4))), none, none],
             Mark::NonMonotonic => [
-                (r(4), DARK_BLUE.stroke_width(2)),
-                (r(2), DARK_RED.filled()),
+                (r(1.0), DARK_BLUE.stroke_width(w(1.4))),
+                (r(0.45), DARK_RED.filled()),
                 none,
             ],
-            Mark::Ended => [none, none, (r(4), GREY.stroke_width(1))],
+            Mark::GrossSlip => [none, none, (r(1.0), GREY.stroke_width(w(1.2)))],
             Mark::NotConverged => [
-                (r(4), AMBER.stroke_width(2)),
+                (r(1.0), AMBER.stroke_width(w(1.4))),
                 none,
-                (r(2) + 1, AMBER.stroke_width(1)),
+                (r(0.5), AMBER.stroke_width(w(1.0))),
             ],
-        }
+            Mark::Separation | Mark::Failed => [none, none, none],
+        };
+        let path = match self {
+            // A triangle pointing down: the contact opens.
+            Mark::Separation => {
+                let d = r(1.2);
+                (
+                    vec![(-d, -d * 2 / 3), (d, -d * 2 / 3), (0, d), (-d, -d * 2 / 3)],
+                    BROWN.stroke_width(w(1.2)),
+                )
+            }
+            // A square.
+            Mark::Failed => {
+                let d = r(0.9);
+                (
+                    vec![(-d, -d), (d, -d), (d, d), (-d, d), (-d, -d)],
+                    MAGENTA.stroke_width(w(1.2)),
+                )
+            }
+            _ => no_path,
+        };
+        (circles, path)
     }
 
     /// The fill colour of this state on a map (the regime map): the
@@ -286,48 +508,330 @@ impl Mark {
     /// ([`crate::palette::map_colour`], which the terminal shares).
     pub(crate) fn map_colour(self) -> crate::palette::Rgb {
         let state = match self {
-            Mark::Shakedown => SteadyState::Shakedown,
-            Mark::CyclicSlip => SteadyState::CyclicSlip,
-            Mark::Ratchetting | Mark::Monotonic => SteadyState::RatchettingMonotonic,
-            Mark::NonMonotonic => SteadyState::RatchettingNonMonotonic,
-            Mark::Ended => SteadyState::GrossSlip,
-            Mark::NotConverged => SteadyState::NotConverged,
+            Mark::Shakedown => Some(SteadyState::Shakedown),
+            Mark::CyclicSlip => Some(SteadyState::CyclicSlip),
+            Mark::Ratchetting | Mark::Monotonic => Some(SteadyState::RatchettingMonotonic),
+            Mark::NonMonotonic => Some(SteadyState::RatchettingNonMonotonic),
+            Mark::GrossSlip => Some(SteadyState::GrossSlip),
+            Mark::Separation => Some(SteadyState::Separation),
+            Mark::NotConverged => Some(SteadyState::NotConverged),
+            Mark::Failed => None,
         };
-        crate::palette::map_colour(Some(state))
+        crate::palette::map_colour(state)
     }
 }
 
-/// The marker of `$mark` at `$at`: two circles and a cross (transparent
-/// parts, which every backend skips, keep the element type the same).
+/// The marker of `$mark` at `$at`, in pixels of `$pen`: two circles, a
+/// cross and an outline (transparent or empty parts, which every backend
+/// skips, keep the element type the same).
 macro_rules! glyph {
-    ($mark:expr, $at:expr, $small:expr) => {{
-        let [(r0, s0), (r1, s1), (r2, s2)] = $mark.parts($small);
+    ($mark:expr, $at:expr, $pen:expr, $small:expr) => {{
+        let ([(r0, s0), (r1, s1), (r2, s2)], (path, s3)) = $mark.parts($pen, $small);
         EmptyElement::at($at)
             + Circle::new((0, 0), r0, s0)
             + Circle::new((0, 0), r1, s1)
             + Cross::new((0, 0), r2, s2)
+            + PathElement::new(path, s3)
     }};
 }
 pub(crate) use glyph;
 
 /// The marker of a run started from the optimal slip of the `lambda_2`
-/// programme: a green diamond, hollow when the run shakes down, filled
-/// when it slips.
+/// programme: a green diamond round the state's mark, open when the run
+/// shakes down, with a green centre when it slips. It is drawn over the
+/// state marks and is large enough that a mark at the same point shows
+/// inside it.
 macro_rules! optimal_glyph {
-    ($slipping:expr, $at:expr) => {{
-        let fill: ShapeStyle = if $slipping {
-            $crate::figure::style::OPTIMAL.filled()
-        } else {
-            WHITE.filled()
-        };
-        let edge = $crate::figure::style::OPTIMAL.stroke_width(2);
-        let d = 6;
+    ($slipping:expr, $at:expr, $pen:expr) => {{
+        let pen: &$crate::figure::style::Pen = $pen;
+        let colour = $crate::figure::style::OPTIMAL;
+        let d = pen.mark(2.3);
+        let c = if $slipping { pen.mark(0.35) } else { 0 };
+        let edge = colour.stroke_width(pen.upx(pen.style.line_pt()));
         EmptyElement::at($at)
-            + Polygon::new(vec![(0, -d), (d, 0), (0, d), (-d, 0)], fill)
             + PathElement::new(vec![(0, -d), (d, 0), (0, d), (-d, 0), (0, -d)], edge)
+            + Circle::new((0, 0), c, colour.filled())
     }};
 }
 pub(crate) use optimal_glyph;
+
+/// One entry of a figure's key: what its sample shows.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Sample {
+    /// A state mark.
+    Mark(Mark, bool),
+    /// The optimal slip's diamond (slipping or not).
+    Optimal(bool),
+    /// A line of a pattern, colour and width factor.
+    Line(Pattern, RGBColor, f64),
+    /// A vertical bar (the spread of W).
+    Bar(RGBColor, f64),
+    /// A filled swatch.
+    Swatch(RGBColor),
+    /// Three swatches, light to dark (a state shaded by `W`).
+    Ramp([RGBColor; 3]),
+    /// No sample: a line of text.
+    Text,
+}
+
+/// A figure's key, drawn beside the plot (never over the data) and
+/// listing only what the figure shows.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct Key {
+    pub(crate) entries: Vec<(Sample, String)>,
+}
+
+impl Key {
+    pub(crate) fn push(&mut self, sample: Sample, label: impl Into<String>) {
+        let label = label.into();
+        if !self.entries.iter().any(|e| e.0 == sample && e.1 == label) {
+            self.entries.push((sample, label));
+        }
+    }
+
+    fn sample_w(pen: &Pen) -> i32 {
+        pen.px(pen.text_pt() * 2.6)
+    }
+
+    fn row_h(pen: &Pen) -> i32 {
+        pen.px(pen.text_pt() * 1.45)
+    }
+
+    /// A label's width in pixels: estimated from its length (DejaVu
+    /// Sans averages about 0.55 em a character), so that the SVG and the
+    /// PNG lay the key out alike and its height is known before drawing.
+    fn label_w(pen: &Pen, label: &str) -> i32 {
+        pen.px(pen.text_pt() * 0.56 * label.chars().count() as f64)
+    }
+
+    /// Columns, rows and column width of the key in `width` pixels.
+    fn grid(&self, pen: &Pen, width: i32) -> (usize, usize, i32) {
+        let widest = self
+            .entries
+            .iter()
+            .map(|e| Self::label_w(pen, &e.1))
+            .max()
+            .unwrap_or(0);
+        let col = Self::sample_w(pen) + pen.px(pen.text_pt() * 2.0) + widest;
+        let cols = ((width / col.max(1)) as usize).clamp(1, self.entries.len().max(1));
+        let rows = self.entries.len().div_ceil(cols);
+        (cols, rows, width / cols as i32)
+    }
+
+    /// The height in points the key needs in a figure `width_pt` wide.
+    pub(crate) fn height_pt(&self, pen_style: FigureStyle, width_pt: f64) -> f64 {
+        if self.entries.is_empty() {
+            return 0.0;
+        }
+        // At the scale of a 720 dpi PNG, so the rounding is that of a
+        // drawing.
+        let pen = Pen {
+            style: pen_style,
+            scale: 10.0,
+        };
+        let (_, rows, _) = self.grid(&pen, (width_pt * 10.0) as i32);
+        rows as f64 * pen.text_pt() * 1.45 + pen.text_pt() * 0.8
+    }
+
+    /// Draw the key in `area`, in columns, entries filled by rows.
+    pub(crate) fn draw<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String> {
+        let width = area.dim_in_pixel().0 as i32;
+        let (cols, _, col_w) = self.grid(pen, width);
+        let sw = Self::sample_w(pen);
+        let left = pen.px(pen.text_pt() * 0.8);
+        for (k, (sample, label)) in self.entries.iter().enumerate() {
+            let (row, col) = (k / cols, k % cols);
+            let x = left + col as i32 * col_w;
+            let y =
+                pen.px(pen.text_pt() * 0.3) + row as i32 * Self::row_h(pen) + Self::row_h(pen) / 2;
+            let at = (x + sw / 2, y);
+            match sample {
+                Sample::Mark(m, small) => area.draw(&glyph!(*m, at, pen, *small)),
+                Sample::Optimal(slipping) => area.draw(&optimal_glyph!(*slipping, at, pen)),
+                Sample::Line(pattern, colour, f) => {
+                    let st = pen.line(*colour, *f);
+                    let half = sw / 2;
+                    let pieces: Vec<PathElement<(i32, i32)>> = pattern
+                        .pieces()
+                        .iter()
+                        .map(|&(a, b)| {
+                            PathElement::new(
+                                vec![(at.0 + a * half / 14, y), (at.0 + b * half / 14, y)],
+                                st,
+                            )
+                        })
+                        .collect();
+                    pieces.iter().try_for_each(|p| area.draw(p))
+                }
+                Sample::Bar(colour, f) => {
+                    let h = pen.px(pen.text_pt() * 0.55);
+                    area.draw(&PathElement::new(
+                        vec![(at.0, y - h), (at.0, y + h)],
+                        pen.line(*colour, *f),
+                    ))
+                }
+                Sample::Swatch(colour) => {
+                    let h = pen.px(pen.text_pt() * 0.45);
+                    area.draw(&Rectangle::new(
+                        [(at.0 - sw / 3, y - h), (at.0 + sw / 3, y + h)],
+                        colour.filled(),
+                    ))
+                }
+                Sample::Ramp(colours) => {
+                    let h = pen.px(pen.text_pt() * 0.45);
+                    let third = sw / 3;
+                    colours.iter().enumerate().try_for_each(|(k, c)| {
+                        let x0 = x + k as i32 * third;
+                        area.draw(&Rectangle::new(
+                            [(x0, y - h), (x0 + third, y + h)],
+                            c.filled(),
+                        ))
+                    })
+                }
+                Sample::Text => Ok(()),
+            }
+            .map_err(s)?;
+            let tx = if *sample == Sample::Text {
+                x
+            } else {
+                x + sw + pen.px(pen.text_pt() * 0.5)
+            };
+            area.draw(&Text::new(
+                label.clone(),
+                (tx, y),
+                pen.text().pos(Pos::new(HPos::Left, VPos::Center)),
+            ))
+            .map_err(s)?;
+        }
+        Ok(())
+    }
+}
+
+/// Superscript digits and minus, for powers of ten as journals print them.
+pub(crate) fn superscript(n: i32) -> String {
+    let digits = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+    let mut out = String::new();
+    if n < 0 {
+        out.push('⁻');
+    }
+    for c in n.unsigned_abs().to_string().chars() {
+        out.push(digits[c.to_digit(10).unwrap_or(0) as usize]);
+    }
+    out
+}
+
+/// A log axis's label: `10⁻⁵` at a power of ten, nothing between (the
+/// ticks there still show the log scale).
+pub(crate) fn pow10_label(v: &f64) -> String {
+    if *v <= 0.0 {
+        return String::new();
+    }
+    let l = v.log10();
+    let k = l.round();
+    if (l - k).abs() < 1e-6 {
+        format!("10{}", superscript(k as i32))
+    } else {
+        String::new()
+    }
+}
+
+/// The whole decades round `(lo, hi)`, so that a log axis has powers of
+/// ten at both ends and at least two labels.
+pub(crate) fn decades(lo: f64, hi: f64) -> (f64, f64) {
+    let a = lo.log10().floor();
+    let mut b = hi.log10().ceil();
+    if b <= a {
+        b = a + 1.0;
+    }
+    (10f64.powf(a), 10f64.powf(b))
+}
+
+/// A linear axis from 0 fitted to `max`: its top (the first tick at or
+/// above the data, so no empty band), and the power of ten its labels are
+/// given in (`×10⁻⁴` beside the axis title) when the numbers are small or
+/// large.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct LinearAxis {
+    pub(crate) top: f64,
+    pub(crate) exponent: i32,
+    pub(crate) ticks: usize,
+}
+
+impl LinearAxis {
+    pub(crate) fn fit(max: f64) -> LinearAxis {
+        if !(max.is_finite() && max > 0.0) {
+            return LinearAxis {
+                top: 1.0,
+                exponent: 0,
+                ticks: 6,
+            };
+        }
+        let raw = max / 5.0;
+        let mag = 10f64.powf(raw.log10().floor());
+        let step = [1.0, 2.0, 2.5, 5.0, 10.0]
+            .iter()
+            .map(|m| m * mag)
+            .find(|s| max / s <= 6.0)
+            .unwrap_or(10.0 * mag);
+        let n = (max / step * (1.0 + 1e-9)).ceil().max(1.0);
+        // A point exactly at the last tick would sit on the frame: leave
+        // a little room by going one tick further only then.
+        let n = if (n * step - max) < 0.02 * step * n {
+            n + 1.0
+        } else {
+            n
+        };
+        let top = n * step;
+        let e = top.log10().floor() as i32;
+        let exponent = if !(-2..4).contains(&e) { e } else { 0 };
+        LinearAxis {
+            top,
+            exponent,
+            ticks: n as usize + 1,
+        }
+    }
+
+    /// A tick label: the value over `10^exponent`, shortest form.
+    pub(crate) fn label(&self, v: f64) -> String {
+        let x = v / 10f64.powi(self.exponent);
+        let t = format!("{x:.3}");
+        let t = t.trim_end_matches('0').trim_end_matches('.');
+        if t == "-0" {
+            "0".into()
+        } else {
+            t.to_string()
+        }
+    }
+
+    /// `title` with the multiplier, when there is one.
+    pub(crate) fn title(&self, title: &str) -> String {
+        if self.exponent == 0 {
+            title.to_string()
+        } else {
+            format!("{title}  (×10{})", superscript(self.exponent))
+        }
+    }
+}
+
+/// A number rounded for reading in text: three significant digits, as
+/// `2.77 × 10⁻⁴` when it is small or large.
+pub(crate) fn readable(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let e = v.abs().log10().floor() as i32;
+    if (-2..4).contains(&e) {
+        let d = (2 - e).max(0) as usize;
+        format!("{v:.d$}")
+    } else {
+        let m = v / 10f64.powi(e);
+        format!("{m:.2} × 10{}", superscript(e))
+    }
+}
 
 /// `(lo, hi)` widened by 3 % each side (or to a unit interval when empty).
 pub(crate) fn padded(lo: f64, hi: f64) -> (f64, f64) {
@@ -403,6 +907,45 @@ mod tests {
         assert_eq!(pi_label(&-0.75), "−3π/4");
         assert_eq!(pi_label(&2.5), "5π/2");
         assert_eq!(pi_label(&0.3), "0.30π");
+    }
+
+    #[test]
+    fn axis_labels_read_as_a_journal_prints_them() {
+        assert_eq!(pow10_label(&1e-5), "10⁻⁵");
+        assert_eq!(pow10_label(&100.0), "10²");
+        assert_eq!(pow10_label(&2e-5), "");
+        let a = LinearAxis::fit(8.2e-4);
+        assert_eq!(a.exponent, -4);
+        assert!(a.top >= 8.2e-4 && a.top <= 1.0e-3, "{a:?}");
+        assert_eq!(a.label(4e-4), "4");
+        assert_eq!(a.title("W"), "W  (×10⁻⁴)");
+        assert_eq!(LinearAxis::fit(0.5).exponent, 0);
+        assert_eq!(readable(2.7662e-4), "2.77 × 10⁻⁴");
+        assert_eq!(readable(5.1), "5.10");
+        assert_eq!(decades(3e-6, 2e-4), (1e-6, 1e-3));
+    }
+
+    #[test]
+    fn styles_parse_and_size() {
+        for st in [
+            FigureStyle::Paper1Col,
+            FigureStyle::Paper2Col,
+            FigureStyle::Slide,
+        ] {
+            assert_eq!(st.name().parse::<FigureStyle>(), Ok(st));
+        }
+        assert!("a4".parse::<FigureStyle>().is_err());
+        let pen = Pen {
+            style: FigureStyle::Paper1Col,
+            scale: FigureStyle::Paper1Col.png_px_per_pt(),
+        };
+        // 90 mm at 600 dpi.
+        assert_eq!(pen.size(0.75).0, (90.0 / 25.4 * 600.0_f64).round() as u32);
+        let pen = Pen {
+            style: FigureStyle::Slide,
+            scale: FigureStyle::Slide.png_px_per_pt(),
+        };
+        assert_eq!(pen.size(1.3), (1920, 1080));
     }
 
     #[test]

@@ -1,5 +1,5 @@
 //! Batch machinery shared by every command that runs many cases and writes
-//! one line per case (`sweep` now, `figure` later): in-order execution that
+//! one line per case (`sweep` and `figure`): in-order execution that
 //! can be interrupted, resuming an interrupted output file, slicing a job
 //! list into shards and merging the shards back.
 //!

@@ -204,6 +204,36 @@ pub fn sweep_metadata(spec: &SweepSpec) -> Metadata {
     m
 }
 
+/// A sweep's rows as a whole CSV: [`sweep_metadata`]'s comment lines,
+/// [`CSV_HEADER`] and one line per row, as `shakedown sweep` writes them.
+pub fn sweep_csv<'a>(
+    spec: &SweepSpec,
+    rows: impl IntoIterator<Item = &'a crate::analysis::sweep::Row>,
+) -> String {
+    let mut text = sweep_metadata(spec).preamble(CSV_HEADER);
+    text.push('\n');
+    for row in rows {
+        text.push_str(&row.csv_line());
+        text.push('\n');
+    }
+    text
+}
+
+/// Save a sweep's rows (the explorer's save) to the new file `path` with
+/// the metadata header: nothing existing is replaced, no symlink followed
+/// ([`crate::io::output::write_new`]).
+///
+/// # Errors
+///
+/// [`crate::io::output::WriteError`] naming the path.
+pub fn save_sweep_csv<'a>(
+    path: &std::path::Path,
+    spec: &SweepSpec,
+    rows: impl IntoIterator<Item = &'a crate::analysis::sweep::Row>,
+) -> Result<(), crate::io::output::WriteError> {
+    crate::io::output::write_new(path, sweep_csv(spec, rows).as_bytes())
+}
+
 /// One case as comment lines (table `table`): the model, the
 /// discretisation, `lambda`, `phi` and the initial path.
 pub fn case_metadata(table: &str, case: &Case, initial: &str) -> Metadata {
@@ -215,8 +245,8 @@ pub fn case_metadata(table: &str, case: &Case, initial: &str) -> Metadata {
         case.cycle.slope(),
     );
     disc_entries(&mut m, &case.disc, &case.options.convergence);
-    m.push("lambda", case.cycle.load_factor());
-    m.push("phi", case.cycle.phase());
+    m.push("lambda", fmt_number(case.cycle.load_factor()));
+    m.push("phi", fmt_number(case.cycle.phase()));
     m.push("initial", initial);
     m
 }
@@ -246,12 +276,43 @@ fn disc_entries(m: &mut Metadata, disc: &Discretisation, convergence: &Convergen
     );
 }
 
+/// `x` in its shortest round-trip form, without hundreds of digits: Rust's
+/// `{}` (which never uses an exponent) for ordinary magnitudes, `{:e}`
+/// (also shortest round-trip) for very small or large ones (`1e-320`).
+pub fn fmt_number(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 || !a.is_finite() || (1e-6..1e16).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 fn join(values: &[f64]) -> String {
     values
         .iter()
-        .map(f64::to_string)
+        .map(|&v| fmt_number(v))
         .collect::<Vec<_>>()
         .join(",")
+}
+
+/// The comment lines of `limit --phi LIST`'s curve (table `limit-curve`):
+/// only what `lambda_2` depends on, the model, `--nodes`, the phases and the
+/// samples of an elliptical cycle (no `lambda`, increments or initial path).
+pub fn limit_curve_metadata(
+    material: &Material,
+    center: LoadPoint,
+    slope: f64,
+    nodes: usize,
+    phases: &[f64],
+    samples: usize,
+) -> Metadata {
+    let mut m = Metadata::new("limit-curve");
+    model_entries(&mut m, material, center, slope);
+    m.push("nodes", nodes)
+        .push("phi", join(phases))
+        .push("samples", samples);
+    m
 }
 
 /// Columns of the optimal-slip CSV of `limit`.
@@ -801,6 +862,21 @@ fn fields(line: &str) -> Vec<&str> {
 ///
 /// What is wrong with the row, in a few words.
 pub fn sweep_row_key(line: &str) -> Result<&str, String> {
+    checked_row_key(line, None)
+}
+
+/// [`sweep_row_key`] for a file whose header caps the cycles of a run at
+/// `max_cycles` (`# max-cycles`): a row with more is not a row of it.
+pub fn sweep_row_key_capped(max_cycles: u64) -> impl Fn(&str) -> Result<&str, String> {
+    move |line| checked_row_key(line, Some(max_cycles))
+}
+
+/// The cycle cap a sweep CSV's header records (`# max-cycles = N`), if any.
+pub fn header_cycle_cap(meta: &Metadata) -> Option<u64> {
+    meta.get("max-cycles").and_then(|v| v.parse().ok())
+}
+
+fn checked_row_key(line: &str, cap: Option<u64>) -> Result<&str, String> {
     let f = fields(line);
     if f.len() != 7 {
         return Err(format!("{} fields, expected 7 ({CSV_HEADER})", f.len()));
@@ -841,9 +917,35 @@ pub fn sweep_row_key(line: &str) -> Result<&str, String> {
         }
     };
     number("dissipation", f[4])?;
-    f[5].parse::<u64>()
+    let cycles = f[5]
+        .parse::<u64>()
         .map_err(|_| format!("cycles '{}' is not a whole number", escape_text(f[5], 40)))?;
     number("rotation_per_cycle", f[6])?;
+    // Physically valid (model.md section 6): dissipation is never
+    // negative, shakedown dissipates nothing, and a run that ended did at
+    // least one cycle and no more than the cap.
+    if !failed {
+        let w: f64 = f[4].parse().unwrap_or(f64::NAN);
+        if w < 0.0 {
+            return Err(format!("dissipation {} is negative", f[4]));
+        }
+        if state == "shakedown" && w != 0.0 {
+            return Err(format!("state shakedown with dissipation {} (not 0)", f[4]));
+        }
+        // A terminal event (gross slip, separation) may end a run in its
+        // transient, before a whole cycle; every other state needs one.
+        let terminal = state == "gross-slip" || state == "separation";
+        if cycles == 0 && !terminal {
+            return Err(format!(
+                "0 cycles for state {state}, which needs a whole cycle"
+            ));
+        }
+        if let Some(cap) = cap.filter(|&c| cycles > c) {
+            return Err(format!(
+                "{cycles} cycles, more than the cap of {cap} in the header"
+            ));
+        }
+    }
     let key_len = f[0].len() + f[1].len() + f[2].len() + 2;
     Ok(&line[..key_len])
 }
@@ -857,6 +959,10 @@ mod tests {
         let good = "5.5,0,\"7,-7\",cyclic-slip,0.001,12,0";
         assert_eq!(sweep_row_key(good), Ok("5.5,0,\"7,-7\""));
         assert!(sweep_row_key("5.5,0,\"OA\",failed,NaN,0,NaN").is_ok());
+        assert!(sweep_row_key("8,0,\"OA\",gross-slip,0,0,0").is_ok());
+        let capped = sweep_row_key_capped(2000);
+        assert!(capped(good).is_ok());
+        assert!(capped("5.5,0,\"OA\",cyclic-slip,0.001,2000000,0").is_err());
         for bad in [
             "3,0,\"7,-7\",GARBAGE,xx,yy,zz",
             "3,0,\"OA\",shakedown,NaN,1,0",
@@ -866,9 +972,22 @@ mod tests {
             "inf,0,\"OA\",shakedown,0,1,0",
             "3,0,OA,shakedown,0,1,0",
             "3,0,\"OA\",shakedown,0,-1,0",
+            "3,0,\"OA\",cyclic-slip,-1,12,0",
+            "3,0,\"OA\",cyclic-slip,1,0,0",
+            "3,0,\"OA\",shakedown,5.5,3,0",
         ] {
             assert!(sweep_row_key(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn numbers_are_short_and_round_trip() {
+        for x in [1e-320, 5.5, 0.0, 1e300, -3.3e-6, 0.1 + 0.2, 12345.678] {
+            let t = fmt_number(x);
+            assert!(t.len() < 25, "{t}");
+            assert_eq!(t.parse::<f64>().unwrap(), x, "{t}");
+        }
+        assert_eq!(fmt_number(5.5), "5.5");
     }
 
     #[test]

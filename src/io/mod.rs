@@ -5,8 +5,11 @@
 
 pub mod batch;
 pub mod csv;
+pub mod design;
+pub mod hash;
 pub mod output;
 pub mod parse;
 pub mod preset;
 pub mod profile;
 pub mod read;
+pub mod sweep_csv;

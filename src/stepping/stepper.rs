@@ -330,13 +330,8 @@ pub struct Stepper {
 ///
 /// The operators `H` and `|D|` (model.md section 2.2) on the
 /// discretisation's `N` nodes, to be shared by every run on the same nodes
-/// (e.g. the runs of a sweep, through [`Stepper::with_operators`]). Also
-/// makes faer's factorisations sequential: the reduced systems are small and
-/// sweeps are parallel over runs.
+/// (e.g. the runs of a sweep, through [`Stepper::with_operators`]).
 pub fn operators(disc: &Discretisation) -> Arc<Operators> {
-    // The reduced systems are small; faer's thread pool would only add
-    // overhead, and sweeps are already parallel over runs.
-    faer::set_global_parallelism(faer::Par::Seq);
     Arc::new(Operators::new(disc.nodes()))
 }
 

@@ -440,6 +440,10 @@ impl App {
     }
     /// A message about the last thing the user did (a restart, a pause).
     pub fn notice(&self) -> Option<&str> {
+        // Never `live` while an instant of the history is on screen.
+        if self.cursor.is_some() && self.notice.as_deref() == Some("live") {
+            return None;
+        }
         self.notice.as_deref()
     }
     /// Why the solver failed, once it has; stepping is refused until a restart.
@@ -569,6 +573,7 @@ impl App {
                 if let Some(i) = self.history.oldest().map(|r| r.increment) {
                     self.pause_for_history();
                     self.cursor = Some(i);
+                    self.notice = None;
                 }
             }
             Action::Live => {
@@ -676,8 +681,8 @@ impl App {
             Action::ToggleView => self.toggle_view(),
             Action::SweepPrevX => self.with_sweep_mut(|s| s.move_x(-1)),
             Action::SweepNextX => self.with_sweep_mut(|s| s.move_x(1)),
-            Action::SweepPageDown => self.with_sweep_mut(|s| s.move_x(-10)),
-            Action::SweepPageUp => self.with_sweep_mut(|s| s.move_x(10)),
+            Action::SweepPageDown => self.with_sweep_mut(|s| s.move_x(10)),
+            Action::SweepPageUp => self.with_sweep_mut(|s| s.move_x(-10)),
             Action::SweepFirst => self.with_sweep_mut(|s| s.move_x(-(isize::MAX / 2))),
             Action::SweepLast => self.with_sweep_mut(|s| s.move_x(isize::MAX / 2)),
             Action::SweepPrevRun => self.with_sweep_mut(|s| s.move_run(-1)),
@@ -697,8 +702,8 @@ impl App {
             Action::RegimeNextLambda => self.with_regime_mut(|r| r.move_lambda(1)),
             Action::RegimePhaseDown => self.with_regime_mut(|r| r.move_phase(-1)),
             Action::RegimePhaseUp => self.with_regime_mut(|r| r.move_phase(1)),
-            Action::RegimePageDown => self.with_regime_mut(|r| r.move_lambda(-10)),
-            Action::RegimePageUp => self.with_regime_mut(|r| r.move_lambda(10)),
+            Action::RegimePageDown => self.with_regime_mut(|r| r.move_lambda(10)),
+            Action::RegimePageUp => self.with_regime_mut(|r| r.move_lambda(-10)),
             Action::RegimeFirst => self.with_regime_mut(|r| r.move_lambda(-(isize::MAX / 2))),
             Action::RegimeLast => self.with_regime_mut(|r| r.move_lambda(isize::MAX / 2)),
             Action::RegimeOpen => self.open_regime_cell(),

@@ -12,6 +12,7 @@
 use std::collections::VecDeque;
 
 use super::log::LogEntry;
+use crate::analysis::episodes::LockedSlip;
 use crate::stepping::{Phase, Status};
 
 /// Slip-map cell codes: the direction in the low bits, a flag on top.
@@ -83,6 +84,11 @@ pub struct Record {
     pub events: Vec<LogEntry>,
     /// Nodes that went from slip to stick during the increment.
     pub newly_stuck: Vec<usize>,
+    /// What those nodes locked in: the slip of the episode that ended, and
+    /// `g` against `g` at the start of the cycle (exact values, not the
+    /// `f32` of the detail, because the episode slip is often far below
+    /// `g`'s round-off in `f32`).
+    pub locked: Option<Box<LockedSlip>>,
     /// Sub-increments the solver took.
     pub substeps: usize,
     /// A cycle completed with this increment: its number and `W`.
@@ -110,6 +116,9 @@ impl Record {
         2 * std::mem::size_of::<Self>()
             + self.cells.len()
             + 8 * self.newly_stuck.len()
+            + self.locked.as_ref().map_or(0, |l| {
+                std::mem::size_of::<LockedSlip>() + 8 * 4 * l.nodes.len()
+            })
             + self.events.iter().map(LogEntry::bytes).sum::<usize>()
     }
 
@@ -191,16 +200,29 @@ impl History {
         (self.dropped > 0).then(|| self.records.front().map_or(0, |r| r.increment))
     }
 
-    /// The record of increment `increment`, if kept.
+    /// The record of increment `increment`, if kept: the one that finished
+    /// it when the run paused at events inside it.
+    ///
+    /// Records are found by their increment number, not by their place:
+    /// a run that pauses at events files one record per pause with the
+    /// number of the increment in progress, so places and numbers part
+    /// (counting places once showed increment #82 for #124).
     pub fn get(&self, increment: usize) -> Option<&Record> {
-        let first = self.records.front()?.increment;
-        self.records.get(increment.checked_sub(first)?)
+        let end = self.end_of(increment);
+        self.records
+            .get(end.checked_sub(1)?)
+            .filter(|r| r.increment == increment)
+    }
+
+    /// One past the place of the last record of an increment up to
+    /// `increment`.
+    fn end_of(&self, increment: usize) -> usize {
+        self.records.partition_point(|r| r.increment <= increment)
     }
 
     /// The nearest record at or before `increment` that kept its detail.
     pub fn detail_at(&self, increment: usize) -> Option<(&Record, &Detail)> {
-        let first = self.records.front()?.increment;
-        let end = (increment.checked_sub(first)? + 1).min(self.records.len());
+        let end = self.end_of(increment);
         self.records
             .range(..end)
             .rev()
@@ -284,6 +306,7 @@ mod tests {
             status: Status::Running,
             events: Vec::new(),
             newly_stuck: Vec::new(),
+            locked: None,
             substeps: 1,
             completed: None,
             detail: Some(Box::new(Detail {
@@ -293,6 +316,28 @@ mod tests {
                 slip_before: None,
             })),
         }
+    }
+
+    #[test]
+    fn pauses_inside_increments_do_not_shift_the_history() {
+        // Every third increment paused at an event inside it first: two
+        // records carry its number.
+        let mut h = History::new(64 << 20);
+        for i in 0..200 {
+            if i % 3 == 0 {
+                let mut partial = record(i, 8);
+                partial.partial = Some(0.5);
+                h.push(partial);
+            }
+            h.push(record(i, 8));
+        }
+        for i in 0..200 {
+            let r = h.get(i).unwrap();
+            assert_eq!(r.increment, i);
+            assert!(r.partial.is_none(), "the finished record of {i}");
+            assert_eq!(h.detail_at(i).unwrap().0.increment, i);
+        }
+        assert!(h.get(200).is_none());
     }
 
     #[test]

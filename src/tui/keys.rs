@@ -106,9 +106,9 @@ pub enum Action {
     SweepPrevX,
     /// Sweep: the next column (`lambda` or `phi`).
     SweepNextX,
-    /// Sweep: ten columns back (left).
+    /// Sweep PgDn: ten columns on (right); PgDn moves on in every view.
     SweepPageDown,
-    /// Sweep: ten columns on (right).
+    /// Sweep PgUp: ten columns back (left); PgUp moves back in every view.
     SweepPageUp,
     /// Sweep: the first column.
     SweepFirst,
@@ -137,9 +137,9 @@ pub enum Action {
     RegimePhaseDown,
     /// Regime map: the next larger `phi` (up the map).
     RegimePhaseUp,
-    /// Regime map: ten `lambda` back (left).
+    /// Regime map PgDn: ten `lambda` on (right).
     RegimePageDown,
-    /// Regime map: ten `lambda` on (right).
+    /// Regime map PgUp: ten `lambda` back (left).
     RegimePageUp,
     /// Regime map: the first `lambda`.
     RegimeFirst,
@@ -544,14 +544,14 @@ pub const BINDINGS: &[Binding] = &[
         keys: &[key(KeyCode::PageDown)],
         label: "PgDn",
         action: Action::SweepPageDown,
-        help: "ten columns left",
+        help: "ten columns right (on)",
         scope: Scope::Sweep,
     },
     Binding {
         keys: &[key(KeyCode::PageUp)],
         label: "PgUp",
         action: Action::SweepPageUp,
-        help: "ten columns right",
+        help: "ten columns left (back)",
         scope: Scope::Sweep,
     },
     Binding {
@@ -569,17 +569,17 @@ pub const BINDINGS: &[Binding] = &[
         scope: Scope::Sweep,
     },
     Binding {
-        keys: &[key(KeyCode::Down)],
-        label: "↓",
+        keys: &[key(KeyCode::Up)],
+        label: "↑",
         action: Action::SweepPrevRun,
-        help: "previous transient at this x",
+        help: "transient above in the table",
         scope: Scope::Sweep,
     },
     Binding {
-        keys: &[key(KeyCode::Up)],
-        label: "↑",
+        keys: &[key(KeyCode::Down)],
+        label: "↓",
         action: Action::SweepNextRun,
-        help: "next transient at this x",
+        help: "transient below in the table",
         scope: Scope::Sweep,
     },
     Binding {
@@ -649,14 +649,14 @@ pub const BINDINGS: &[Binding] = &[
         keys: &[key(KeyCode::PageDown)],
         label: "PgDn",
         action: Action::RegimePageDown,
-        help: "ten lambdas left",
+        help: "ten lambdas right (on)",
         scope: Scope::Regime,
     },
     Binding {
         keys: &[key(KeyCode::PageUp)],
         label: "PgUp",
         action: Action::RegimePageUp,
-        help: "ten lambdas right",
+        help: "ten lambdas left (back)",
         scope: Scope::Regime,
     },
     Binding {

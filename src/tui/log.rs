@@ -8,7 +8,8 @@
 
 use std::f64::consts::PI;
 
-use super::format::{format_sci, node_theta, plural};
+use super::format::{format_sci, plural};
+use crate::analysis::episodes::ThetaRange;
 use crate::contact::SlipDirection;
 use crate::stepping::{slip_zones, Event, ZoneChange};
 
@@ -130,7 +131,8 @@ pub struct LogEntry {
     pub load: (f64, f64),
     /// Nodes concerned (advancing stick), else 0.
     pub nodes: usize,
-    /// First and last `theta` concerned, in `[-pi, pi)`.
+    /// First and last `theta` concerned, in `[-pi, pi)`, along the
+    /// shortest arc (first > last when it runs through `theta = pi`).
     pub theta: Option<(f64, f64)>,
     /// What happened, in words.
     pub text: String,
@@ -285,18 +287,16 @@ pub fn entries(events: &[Event], at: At, directions: &[SlipDirection]) -> Vec<Lo
     out
 }
 
-/// The smallest and largest `theta` of `nodes`.
+/// The first and last `theta` of `nodes` along the shortest arc that holds
+/// them: `first > last` when the arc runs through `theta = pi`.
 fn theta_range(nodes: &[usize], n: usize) -> Option<(f64, f64)> {
-    let mut it = nodes.iter().map(|&j| node_theta(j, n));
-    let first = it.next()?;
-    Some(it.fold((first, first), |(a, b), t| (a.min(t), b.max(t))))
+    ThetaRange::of_nodes(nodes, n).map(|r| (r.from, r.to))
 }
 
-/// `theta/pi = -0.73..-0.70`, or one value.
+/// `theta/pi = -0.73..-0.70`, `0.85..-0.90 (wraps)`, or one value.
 pub fn format_theta(range: Option<(f64, f64)>) -> String {
     match range {
         None => "–".into(),
-        Some((a, b)) if (a - b).abs() < 1e-12 => format!("{:.2}", a / PI),
-        Some((a, b)) => format!("{:.2}..{:.2}", a / PI, b / PI),
+        Some((from, to)) => ThetaRange { from, to }.to_string(),
     }
 }

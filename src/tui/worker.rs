@@ -14,9 +14,10 @@ use std::time::{Duration, Instant};
 use super::history::{Detail, Record, BACKWARD, FORWARD, NEWLY_STUCK, STICK};
 use super::log::{self, At, Filter};
 use crate::analysis::case::Case;
+use crate::analysis::episodes::{EpisodeTracker, LockedSlip};
 use crate::contact::{Operators, SlipDirection};
 use crate::model::path::Segment;
-use crate::stepping::{self, Control, Event, Phase, Status, StepReport, Stepper};
+use crate::stepping::{self, Control, Event, Observer, Phase, Status, StepReport, Stepper};
 
 /// How far the worker should go.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -178,6 +179,9 @@ struct Thread {
     commands: Receiver<Command>,
     replies: SyncSender<Reply>,
     stepper: Option<Stepper>,
+    /// `g` when each node's slip episode began, for what advancing stick
+    /// locks in; it follows the stepper across drives.
+    episodes: Option<EpisodeTracker>,
     generation: u64,
     filter: Option<Filter>,
     budget: usize,
@@ -196,6 +200,7 @@ impl Thread {
             commands,
             replies,
             stepper: None,
+            episodes: None,
             generation: 0,
             filter: None,
             budget: usize::MAX,
@@ -253,6 +258,7 @@ impl Thread {
                 );
                 stepper.set_pause_at_events(self.filter.is_some_and(|f| f.inside_increments()));
                 self.generation = generation;
+                self.episodes = Some(EpisodeTracker::new(&stepper));
                 let reply = Reply::Started {
                     generation,
                     transient: stepper.transient().to_vec(),
@@ -344,6 +350,10 @@ impl Thread {
         }
         let mut why: Option<Stopped> = None;
         let mut slip_before: Vec<f32> = centred_slip(&stepper);
+        let mut episodes = self
+            .episodes
+            .take()
+            .unwrap_or_else(|| EpisodeTracker::new(&stepper));
         let budget = self.budget;
         let filter = self.filter;
         let generation = self.generation;
@@ -353,7 +363,8 @@ impl Thread {
             let pending = &mut self.pending;
             let closed = &mut self.closed;
             let mut observer = |s: &Stepper, report: &StepReport| -> Control {
-                let record = make_record(s, report, generation, &slip_before);
+                episodes.observe(s, report);
+                let record = make_record(s, report, generation, &slip_before, &episodes);
                 slip_before = record
                     .detail
                     .as_ref()
@@ -400,6 +411,7 @@ impl Thread {
             };
             stepping::drive(&mut stepper, goal, &mut observer)
         };
+        self.episodes = Some(episodes);
         stepper.trim_history(KEEP_CYCLES);
         let finished = stepper.is_finished();
         self.stepper = Some(stepper);
@@ -431,6 +443,21 @@ fn cycle_bytes(s: &Stepper) -> usize {
     std::mem::size_of_val(history) + slip
 }
 
+/// What the nodes that stuck in this step locked in, all advancing-stick
+/// events of the step together.
+fn locked_slip(report: &StepReport, episodes: &EpisodeTracker) -> Option<Box<LockedSlip>> {
+    if report.newly_stuck.is_empty() {
+        return None;
+    }
+    let all = Event::AdvancingStick {
+        nodes: report.newly_stuck.clone(),
+        substeps: report.substeps,
+        time: None,
+        load: crate::model::LoadPoint::new(0.0, 0.0),
+    };
+    episodes.locked_slip(&all).map(Box::new)
+}
+
 /// `g` minus its mean, as stored.
 fn centred_slip(s: &Stepper) -> Vec<f32> {
     let c = s.contact();
@@ -438,7 +465,13 @@ fn centred_slip(s: &Stepper) -> Vec<f32> {
     c.slip().iter().map(|&g| (g - r) as f32).collect()
 }
 
-fn make_record(s: &Stepper, report: &StepReport, generation: u64, before: &[f32]) -> Record {
+fn make_record(
+    s: &Stepper,
+    report: &StepReport,
+    generation: u64,
+    before: &[f32],
+    episodes: &EpisodeTracker,
+) -> Record {
     let c = s.contact();
     let after = s.phase();
     // A step paused at an event is inside the increment in progress.
@@ -507,6 +540,7 @@ fn make_record(s: &Stepper, report: &StepReport, generation: u64, before: &[f32]
         status: s.status().clone(),
         events,
         newly_stuck: report.newly_stuck.clone(),
+        locked: locked_slip(report, episodes),
         substeps: report.substeps,
         completed: report.events.iter().find_map(|e| match e {
             Event::CycleCompleted {

@@ -1005,3 +1005,343 @@ fn an_unknown_flag_points_to_the_help_of_its_subcommand() {
         &["'--nodes <N>'", "(see shakedown sweep --help)"],
     );
 }
+
+// ---------------------------------------------------------------------
+// No way round the guarantees (issue 65): every case asserts the exit
+// status, the one-line message and that no file changed.
+// ---------------------------------------------------------------------
+
+/// Every file of `dir` (recursively one level is enough here) with its
+/// bytes, or the target of a symlink.
+fn snapshot(dir: &std::path::Path) -> Vec<(String, Vec<u8>)> {
+    let mut out: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            let name = e.file_name().to_string_lossy().into_owned();
+            let meta = std::fs::symlink_metadata(e.path()).unwrap();
+            let bytes = if meta.file_type().is_symlink() {
+                let t = std::fs::read_link(e.path()).unwrap();
+                format!("-> {}", t.display()).into_bytes()
+            } else if meta.is_dir() {
+                b"<dir>".to_vec()
+            } else {
+                std::fs::read(e.path()).unwrap()
+            };
+            (name, bytes)
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+/// [`rejected`], run in `dir`, and nothing in `dir` changed.
+#[track_caller]
+fn refused_in(dir: &std::path::Path, args: &[&str], names: &[&str]) -> String {
+    let before = snapshot(dir);
+    let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{args:?}: one line expected:\n{stderr}");
+    assert!(lines[0].starts_with("error: "), "{}", lines[0]);
+    for name in names {
+        assert!(
+            lines[0].contains(name),
+            "'{name}' missing from: {}",
+            lines[0]
+        );
+    }
+    assert_eq!(snapshot(dir), before, "{args:?} changed a file");
+    lines[0].to_string()
+}
+
+/// Run `args` in `dir` and expect success.
+#[track_caller]
+fn ok_in(dir: &std::path::Path, args: &[&str]) -> Output {
+    let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .output()
+        .expect("the binary runs");
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+const TINY: [&str; 8] = [
+    "--nodes",
+    "32",
+    "--steps",
+    "100",
+    "--phi",
+    "0",
+    "--initial",
+    "OA",
+];
+
+fn tiny_sweep<'a>(lambda: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec!["sweep", "--lambda", lambda];
+    v.extend_from_slice(&TINY);
+    v.extend_from_slice(extra);
+    v
+}
+
+#[cfg(unix)]
+#[test]
+fn the_lock_belongs_to_the_file_not_its_name() {
+    let dir = temp_dir("lock-links");
+    ok_in(&dir, &tiny_sweep("3", &["--out", "x.csv"]));
+    std::os::unix::fs::symlink("x.csv", dir.join("y.csv")).unwrap();
+    std::fs::hard_link(dir.join("x.csv"), dir.join("z.csv")).unwrap();
+    // Another process writing x.csv holds its lock (here: this one).
+    let lock = shakedown::io::output::OutputLock::acquire(&dir.join("x.csv")).unwrap();
+    let sym = tiny_sweep("3", &["--friction", "0.2", "--out", "y.csv", "--force"]);
+    refused_in(&dir, &sym, &["--out y.csv", "another process"]);
+    let hard = tiny_sweep("3", &["--friction", "0.2", "--out", "z.csv", "--force"]);
+    refused_in(&dir, &hard, &["--out z.csv", "under another name"]);
+    drop(lock);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[cfg(unix)]
+#[test]
+fn a_lock_path_that_is_a_link_or_a_folder_is_never_written() {
+    let dir = temp_dir("lock-odd");
+    std::fs::write(dir.join("v.txt"), "keep").unwrap();
+    std::os::unix::fs::symlink("v.txt", dir.join("o.csv.lock")).unwrap();
+    refused_in(
+        &dir,
+        &tiny_sweep("3", &["--out", "o.csv"]),
+        &["--out o.csv", "o.csv.lock", "not a regular file"],
+    );
+    std::fs::create_dir(dir.join("OUT.lock")).unwrap();
+    refused_in(
+        &dir,
+        &tiny_sweep("3", &["--out", "OUT"]),
+        &["--out OUT", "OUT.lock", "not a regular file"],
+    );
+    refused_in(
+        &dir,
+        &["limit", "--nodes", "32", "--out", "o.csv"],
+        &["--out o.csv", "not a regular file"],
+    );
+    // A name too long for `.lock` to be added still works.
+    let long = format!("{}.csv", "n".repeat(251));
+    ok_in(&dir, &tiny_sweep("3", &["--out", &long]));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[cfg(unix)]
+#[test]
+fn an_input_is_never_the_output_under_any_name() {
+    let dir = temp_dir("input-output");
+    ok_in(&dir, &["limit", "--nodes", "32", "--out", "g.csv"]);
+    std::os::unix::fs::symlink("g.csv", dir.join("h.csv")).unwrap();
+    for out in ["g.csv", "h.csv"] {
+        let args = tiny_sweep("3", &["--initial-slip", "g.csv", "--out", out, "--force"]);
+        let mut args: Vec<&str> = args;
+        // --initial-slip replaces --initial.
+        let at = args.iter().position(|a| *a == "--initial").unwrap();
+        args.drain(at..at + 2);
+        refused_in(
+            &dir,
+            &args,
+            &[&format!("--out {out}"), "--initial-slip file"],
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_replaced_initial_slip_is_not_resumed() {
+    let dir = temp_dir("slip-hash");
+    ok_in(&dir, &["limit", "--nodes", "32", "--out", "g.csv"]);
+    let args = [
+        "sweep",
+        "--lambda",
+        "3",
+        "--phi",
+        "0",
+        "--nodes",
+        "32",
+        "--steps",
+        "100",
+        "--initial-slip",
+        "g.csv",
+        "--out",
+        "s.csv",
+    ];
+    ok_in(&dir, &args);
+    let head = std::fs::read_to_string(dir.join("s.csv")).unwrap();
+    assert!(head.contains("# initial = slip:g.csv@sha256:"), "{head}");
+    // Another slip under the same name.
+    let other = [
+        "limit",
+        "--nodes",
+        "32",
+        "--friction",
+        "0.3",
+        "--out",
+        "g.csv",
+        "--force",
+    ];
+    ok_in(&dir, &other);
+    let mut resume = args.to_vec();
+    resume.push("--resume");
+    refused_in(&dir, &resume, &["--resume --out s.csv", "initial"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn impossible_rows_are_refused_on_resume() {
+    let dir = temp_dir("rows");
+    ok_in(&dir, &tiny_sweep("2,3", &["--out", "s.csv"]));
+    let good = std::fs::read_to_string(dir.join("s.csv")).unwrap();
+    let last = good.lines().last().unwrap().to_string();
+    let fields: Vec<&str> = last.split(',').collect();
+    assert_eq!(fields[3], "shakedown", "{last}");
+    let cases = [
+        (
+            format!(
+                "{},{},{},cyclic-slip,-1,3,0",
+                fields[0], fields[1], fields[2]
+            ),
+            "negative",
+        ),
+        (
+            format!(
+                "{},{},{},cyclic-slip,1,0,0",
+                fields[0], fields[1], fields[2]
+            ),
+            "0 cycles",
+        ),
+        (
+            format!(
+                "{},{},{},cyclic-slip,1,2000000,0",
+                fields[0], fields[1], fields[2]
+            ),
+            "cap",
+        ),
+        (
+            format!(
+                "{},{},{},shakedown,5.5,3,0",
+                fields[0], fields[1], fields[2]
+            ),
+            "shakedown",
+        ),
+    ];
+    for (row, why) in cases {
+        let text = good.replace(&last, &row);
+        std::fs::write(dir.join("s.csv"), &text).unwrap();
+        refused_in(
+            &dir,
+            &tiny_sweep("2,3", &["--out", "s.csv", "--resume"]),
+            &["s.csv", why],
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn figure_from_checks_the_header_and_completeness() {
+    let dir = temp_dir("from");
+    // A sweep CSV that is not fig3's table (other lambda list).
+    ok_in(&dir, &tiny_sweep("3", &["--out", "other.csv"]));
+    refused_in(
+        &dir,
+        &["figure", "fig3", "--from", "other.csv", "--out", "."],
+        &["--from other.csv", "not this figure's table"],
+    );
+    refused_in(
+        &dir,
+        &["figure", "fig3", "--from", "/dev/zero", "--out", "."],
+        &["--from /dev/zero", "not a regular file"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn limit_refuses_what_it_would_ignore() {
+    let dir = temp_dir("limit-flags");
+    refused_in(
+        &dir,
+        &["limit", "--nodes", "32", "--initial-path", "2pi,0"],
+        &["--initial-path", "limit does not use it"],
+    );
+    refused_in(
+        &dir,
+        &["limit", "--nodes", "32", "--run-out"],
+        &["--run-out", "limit does not use it"],
+    );
+    refused_in(
+        &dir,
+        &["limit", "--nodes", "32", "--phi", "0", "--samples", "64"],
+        &["--samples 64", "phi = 0"],
+    );
+    refused_in(
+        &dir,
+        &["limit", "--samples", "4096"],
+        &["--samples 4096", "at most"],
+    );
+    let out = ok_in(
+        &dir,
+        &[
+            "limit", "--nodes", "32", "--phi", "0,pi/2", "--out", "c.csv",
+        ],
+    );
+    let shown = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(shown.lines().count(), 1, "a summary, not the CSV: {shown}");
+    let head = std::fs::read_to_string(dir.join("c.csv")).unwrap();
+    for key in ["# lambda =", "# steps =", "# initial ="] {
+        assert!(!head.contains(key), "{key} in\n{head}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_stderr_or_stdout_ends_with_status_1_and_no_panic() {
+    let full = || {
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap()
+    };
+    let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args(["sweep", "--lambda", "x"])
+        .stderr(full())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    for flag in ["--help", "--version"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+            .arg(flag)
+            .stdout(full())
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{flag}");
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+    }
+}
+
+#[test]
+fn huge_thread_counts_are_clamped_with_a_warning() {
+    let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args(tiny_sweep("3", &[]))
+        .env("RAYON_NUM_THREADS", "100000")
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("RAYON_NUM_THREADS=100000"), "{err}");
+}

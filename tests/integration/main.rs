@@ -5,6 +5,8 @@ mod allocations;
 mod bad_input;
 mod batch_cli;
 mod common;
+mod design;
+mod docs_commands;
 mod engine;
 mod figures;
 mod history_trim;

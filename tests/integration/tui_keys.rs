@@ -338,11 +338,11 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
             assert!((app.load_factor() - 5.13).abs() < 1e-12);
             assert_restarted(&app);
         }
-        Action::SweepPageUp | Action::SweepLast => {
+        Action::SweepPageDown | Action::SweepLast => {
             handle(&mut app);
             assert_eq!(app.sweep().unwrap().cursor(), (2, 0));
         }
-        Action::SweepPageDown | Action::SweepFirst => {
+        Action::SweepPageUp | Action::SweepFirst => {
             app.apply(Action::SweepLast);
             handle(&mut app);
             assert_eq!(app.sweep().unwrap().cursor(), (0, 0));
@@ -431,11 +431,11 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
             handle(&mut app);
             assert_eq!(app.regime().unwrap().cursor(), (0, 0));
         }
-        Action::RegimePageUp | Action::RegimeLast => {
+        Action::RegimePageDown | Action::RegimeLast => {
             handle(&mut app);
             assert_eq!(app.regime().unwrap().cursor(), (2, 0));
         }
-        Action::RegimePageDown | Action::RegimeFirst => {
+        Action::RegimePageUp | Action::RegimeFirst => {
             app.apply(Action::RegimeLast);
             handle(&mut app);
             assert_eq!(app.regime().unwrap().cursor(), (0, 0));
@@ -580,7 +580,8 @@ fn the_sweep_fills_in_and_enter_opens_a_run() {
 
     key(&mut app, KeyCode::Right);
     key(&mut app, KeyCode::Right);
-    key(&mut app, KeyCode::Up);
+    // Down the table: the next transient.
+    key(&mut app, KeyCode::Down);
     let (job, row) = app.sweep().unwrap().selected().unwrap();
     assert_eq!((job.load_factor, job.initial), (7.0, 1));
     assert!(row.is_some());
@@ -950,4 +951,64 @@ fn a_run_that_ends_refuses_to_step_and_says_why() {
     let mut terminal = Terminal::new(TestBackend::new(100, 30)).unwrap();
     terminal.draw(|f| ui::draw(f, &app)).unwrap();
     assert!(terminal.backend().to_string().contains("gross-slip"));
+}
+
+/// Paused at events inside increments (`e`), the run files one record per
+/// pause under the increment in progress. The history once counted places
+/// for increments, so `,` skipped increments (#125 went to #82): every
+/// increment must be found under its own number, and scrubbing back steps
+/// one increment at a time. The stuck nodes of an advancing stick are
+/// marked with the slip of their episode however the instant is reached.
+#[test]
+fn pausing_at_events_leaves_no_gap_in_the_history() {
+    let mut app = app();
+    app.apply(Action::PauseOnEvents);
+    assert!(app.pauses_on_events());
+    for _ in 0..400 {
+        if app.increments() >= 300 {
+            break;
+        }
+        app.advance(300);
+    }
+    let h = app.history();
+    assert!(h.iter().any(|r| r.partial.is_some()), "some pauses inside");
+    let (first, last) = (h.oldest().unwrap().increment, h.newest().unwrap().increment);
+    for i in first..=last {
+        assert_eq!(h.get(i).map(|r| r.increment), Some(i), "increment {i}");
+    }
+    let stuck = h
+        .iter()
+        .rev()
+        .find(|r| r.locked.is_some())
+        .map(|r| r.increment)
+        .expect("an advancing stick");
+    let mut shown = app.shown().unwrap().increment;
+    while shown > stuck {
+        app.apply(Action::Back1);
+        let now = app.shown().unwrap().increment;
+        assert_eq!(now + 1, shown, "one increment back");
+        shown = now;
+    }
+    let mut terminal = Terminal::new(TestBackend::new(100, 30)).unwrap();
+    terminal.draw(|f| ui::draw(f, &app)).unwrap();
+    let text = terminal.backend().to_string();
+    assert!(text.contains("episode slip max"), "{text}");
+}
+
+/// History has one counter, and `live` is never said over the history.
+#[test]
+fn history_is_never_called_live() {
+    let mut app = app();
+    app.advance(120);
+    app.apply(Action::Back1);
+    app.apply(Action::Live);
+    assert_eq!(app.notice(), Some("live"));
+    app.apply(Action::Oldest);
+    assert!(app.cursor().is_some());
+    assert_ne!(app.notice(), Some("live"));
+    let mut terminal = Terminal::new(TestBackend::new(160, 48)).unwrap();
+    terminal.draw(|f| ui::draw(f, &app)).unwrap();
+    let text = terminal.backend().to_string();
+    assert!(!text.contains("live"), "{text}");
+    assert!(!text.contains("(#"), "one counter: {text}");
 }

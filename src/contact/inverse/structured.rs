@@ -46,9 +46,11 @@
 //! set ([`SetInverse::catch_up`]), as the borderings would have; a rebuild
 //! (the slip zone collapsing at a reversal of the load) drops them.
 
-use super::{axpys, dot, dots, Kernel, SetInverse, NONE, PIVOT_TOL};
+use super::{SetInverse, NONE};
+use crate::contact::kernels::DenseLu;
+use crate::contact::kernels::{axpys, dot, dots, Kernel};
 use crate::contact::operators::Operators;
-use crate::contact::reduced::DenseLu;
+use crate::contact::tolerances::PIVOT_TOL;
 
 /// The most arcs for which the vectors are kept: `4 m` of them, and a
 /// system of `2 m - 1`.

@@ -256,6 +256,11 @@ impl Theme {
         Self { truecolor, ..self }
     }
 
+    /// Whether colours are drawn (not under `NO_COLOR`).
+    pub fn has_color(&self) -> bool {
+        self.color
+    }
+
     /// A palette colour ([`crate::palette`]) as the terminal can show it:
     /// exact in 24-bit colour, else the nearest of the 6x6x6 cube of the
     /// 256 colours.

@@ -301,7 +301,12 @@ fn render_legend(frame: &mut Frame, area: Rect, regime: &Regime, theme: &Theme) 
         Span::styled(" lambda_2(phi)", theme.label()),
         Span::styled(curve, theme.dim()),
     ]));
-    let title = theme.sym(" Legend: darker is more W ", " Legend: darker = more W ");
+    // Shades only speak in colour: without it the letters name the states.
+    let title = if theme.has_color() {
+        theme.sym(" Legend: darker is more W ", " Legend: darker = more W ")
+    } else {
+        " Legend: letters are states "
+    };
     frame.render_widget(Paragraph::new(lines).block(theme.panel(title)), area);
 }
 

@@ -4,10 +4,17 @@
 //! without bound when the disc ratchets and would flatten the shape that
 //! carries the memory.
 //!
-//! At an advancing stick the nodes that stuck are marked, and `g` before
-//! the increment is drawn too, so what they locked in shows as the gap
-//! between the two curves there. A pinned run's `g` is drawn dimmed. The
-//! scale is the largest `g` seen in this run, so it does not jump.
+//! At an advancing stick the panel zooms on the nodes that stuck (however
+//! the instant was reached: a pause at the event, a step, the history): for
+//! each it shows the slip it gathered in the slip episode that ends there
+//! (its `g` now minus its `g` when the episode began, see
+//! [`crate::analysis::episodes`]), and its `g` now minus its `g` at the
+//! start of the cycle, on a scale fitted to these differences, which are
+//! often a million times smaller than `g`. Elsewhere a pinned run's `g` is
+//! drawn dimmed, and the scale is the largest `g` seen in this run, so it
+//! does not jump.
+
+use std::f64::consts::PI;
 
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
@@ -17,6 +24,7 @@ use ratatui::widgets::{Axis, Chart, Dataset, GraphType, Widget};
 
 use super::slip_map::STUCK_GLYPH;
 use super::{glyph, nice_ceiling, theta_axis, theta_order, tick, Theme};
+use crate::analysis::episodes::{LockedSlip, ThetaRange};
 use crate::tui::app::{format_sci, node_theta, App};
 
 /// The locked-in slip widget.
@@ -41,6 +49,10 @@ impl Widget for Slip<'_> {
             return;
         };
         let n = detail.slip.len();
+        if let Some(locked) = record.locked.as_deref().filter(|l| !l.nodes.is_empty()) {
+            render_locked(locked, n, theme, area, buf);
+            return;
+        }
         let now = curve(&detail.slip);
         let before = detail.slip_before.as_deref().map(curve).unwrap_or_default();
         let stuck: Vec<(f64, f64)> = record
@@ -147,4 +159,104 @@ impl Widget for Slip<'_> {
             );
         chart.render(area, buf);
     }
+}
+
+/// The zoom on what the nodes of an advancing stick locked in (module
+/// docs). The `theta` axis runs along the arc of the stuck nodes, through
+/// `theta = pi` when the arc wraps.
+fn render_locked(locked: &LockedSlip, n: usize, theme: &Theme, area: Rect, buf: &mut Buffer) {
+    let title = " Locked-in slip: what the stuck nodes gathered ";
+    let range = ThetaRange::of_nodes(&locked.nodes, n);
+    let from = range.map_or(-1.0, |r| r.from / PI);
+    // theta / pi along the arc from its first node, past 1 when it wraps.
+    let along = |j: usize| from + (node_theta(j, n) / PI - from).rem_euclid(2.0);
+    let mut episode: Vec<(f64, f64)> = Vec::with_capacity(locked.nodes.len());
+    let mut since_cycle: Vec<(f64, f64)> = Vec::with_capacity(locked.nodes.len());
+    for (k, &j) in locked.nodes.iter().enumerate() {
+        let x = along(j);
+        episode.push((x, locked.per_node[k]));
+        since_cycle.push((x, locked.g_now[k] - locked.g_cycle_start[k]));
+    }
+    episode.sort_by(|a, b| a.0.total_cmp(&b.0));
+    since_cycle.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let to = episode.last().map_or(from, |p| p.0);
+    // Half a node spacing either side, so a single node has room.
+    let pad = 1.0 / n.max(1) as f64;
+    let (x0, x1) = (from - pad, to + pad);
+    let peak = episode
+        .iter()
+        .chain(&since_cycle)
+        .map(|p| p.1.abs())
+        .fold(0.0, f64::max);
+    // Fitted to the differences; a floor keeps all-zero values drawable.
+    let scale = nice_ceiling(peak.max(1e-15) * 1.05);
+    let wrap = |x: f64| if x >= 1.0 { x - 2.0 } else { x };
+    let x_labels = vec![format!("{:.2}", wrap(from)), format!("{:.2}", wrap(to))];
+    let datasets = vec![
+        Dataset::default()
+            .data(&since_cycle)
+            .marker(theme.line_marker())
+            .graph_type(GraphType::Line)
+            .style(theme.fg(Color::Gray)),
+        Dataset::default()
+            .data(&episode)
+            .marker(glyph(STUCK_GLYPH))
+            .style(theme.newly_stuck()),
+    ];
+    let range_text = range.map(|r| r.to_string()).unwrap_or_default();
+    let width = area.width.saturating_sub(2) as usize;
+    let theta = theme.sym("θ/π", "theta/pi");
+    let bottom = super::first_fitting(
+        vec![
+            Line::from(vec![
+                Span::styled(
+                    format!(" {STUCK_GLYPH} episode slip max "),
+                    theme.newly_stuck(),
+                ),
+                Span::styled(format!("{} ", format_sci(locked.max)), theme.value()),
+                Span::styled("mean ", theme.label()),
+                Span::styled(format!("{} ", format_sci(locked.mean)), theme.value()),
+                Span::styled("- grey: g - g(cycle start) ", theme.label()),
+                Span::styled(format!("{theta} {range_text} "), theme.label()),
+            ]),
+            Line::from(vec![
+                Span::styled(
+                    format!(" {STUCK_GLYPH} episode slip max "),
+                    theme.newly_stuck(),
+                ),
+                Span::styled(format!("{} ", format_sci(locked.max)), theme.value()),
+                Span::styled("grey: g - g(cycle start) ", theme.label()),
+            ]),
+            Line::from(vec![
+                Span::styled(
+                    format!(" {STUCK_GLYPH} episode slip max "),
+                    theme.newly_stuck(),
+                ),
+                Span::styled(format!("{} ", format_sci(locked.max)), theme.value()),
+            ]),
+        ],
+        width,
+    );
+    let top_right = Line::from(Span::styled(
+        format!(" {} stuck, {theta} {range_text} ", locked.nodes.len()),
+        theme.label(),
+    ))
+    .right_aligned();
+    let chart = Chart::new(datasets)
+        .block(theme.panel(title).title(top_right).title_bottom(bottom))
+        .legend_position(None)
+        .x_axis(
+            Axis::default()
+                .bounds([x0, x1])
+                .labels(x_labels)
+                .style(theme.dim()),
+        )
+        .y_axis(
+            Axis::default()
+                .title(Span::styled("dg", theme.label()))
+                .bounds([-scale, scale])
+                .labels(vec![tick(-scale), "0".into(), tick(scale)])
+                .style(theme.dim()),
+        );
+    chart.render(area, buf);
 }

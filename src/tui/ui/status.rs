@@ -56,37 +56,31 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
 
     let shown = app.shown();
     let steps = case.disc.steps_per_cycle();
-    let (where_label, where_value) = match (app.cursor(), shown) {
-        (Some(_), Some(r)) => (
-            " history ",
-            match r.phase {
-                Phase::Transient { segment, increment } => format!(
-                    "transient seg {} incr {}  (#{})",
-                    segment + 1,
-                    increment + 1,
-                    r.increment + 1
-                ),
-                Phase::Cycle { cycle, increment } => format!(
-                    "cycle {cycle} incr {}/{steps}  (#{})",
-                    increment + 1,
-                    r.increment + 1
-                ),
-            },
-        ),
-        _ => match app.stepper_phase() {
-            Phase::Transient { segment, increment } => (
-                " transient ",
-                format!(
-                    "seg {}/{} incr {}",
-                    segment + 1,
-                    app.transient().len().max(1),
-                    increment
-                ),
+    // One counter: live or in the history, where the run is after the
+    // increment on screen (increments done in the cycle, and in all).
+    let (history_at, after) = match (app.cursor(), shown) {
+        (Some(_), Some(r)) => (true, r.after),
+        _ => (false, app.stepper_phase()),
+    };
+    let (where_label, mut where_value) = match after {
+        Phase::Transient { segment, increment } => (
+            " transient ",
+            format!(
+                "seg {}/{} incr {}",
+                segment + 1,
+                app.transient().len().max(1),
+                increment
             ),
-            Phase::Cycle { cycle, increment } => {
-                (" cycle ", format!("{cycle}  incr {increment}/{steps}"))
-            }
-        },
+        ),
+        Phase::Cycle { cycle, increment } => {
+            (" cycle ", format!("{cycle}  incr {increment}/{steps}"))
+        }
+    };
+    let where_label = if history_at {
+        where_value = format!("{}{where_value}", where_label.trim_start());
+        " history "
+    } else {
+        where_label
     };
     // Paused at an event inside an increment: say where, exactly.
     let inside = match (app.cursor(), shown) {
@@ -114,10 +108,15 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
             .spans
             .extend([label(" + event at "), value(format!("({x:.4}, {y:.4})"))]);
     }
-    if wide && app.cursor().is_none() {
+    if wide {
+        // The same count live and in the history.
+        let total = match (app.cursor(), shown) {
+            (Some(_), Some(r)) => r.increment + usize::from(r.partial.is_none()),
+            _ => app.increments(),
+        };
         line2
             .spans
-            .extend([label("  total "), value(app.increments().to_string())]);
+            .extend([label("  total "), value(total.to_string())]);
     }
     line2
         .spans

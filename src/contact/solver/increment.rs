@@ -33,35 +33,18 @@
 
 use std::f64::consts::PI;
 
-use super::cache::{self, ResponseCache, SetKey};
-use super::kernels::{self, at_limit, end_margins, event_times, rate_extremes, SCREEN};
-use super::operators::{FftScratch, Operators};
-use super::solver::{
+use super::{
     fingerprint, push_differences, same_directions, Advanced, Contact, ContactEnd, ContactError,
     SlipDirection, Solved, Workspace,
 };
-use super::solver::{node_to_hold, on_the_torque_limit, DG_TOL, MAX_HELD, TRACTION_TOL};
+use super::{node_to_hold, on_the_torque_limit, MAX_HELD};
+use crate::contact::cache::{self, ResponseCache, SetKey};
+use crate::contact::kernels::{self, at_limit, end_margins, event_times, rate_extremes};
+use crate::contact::operators::{FftScratch, Operators};
+use crate::contact::tolerances::{
+    CLEARANCE_SLACK, DG_TOL, EVENT_TIES, RATE_TOL, SCREEN, TRACTION_TOL,
+};
 use crate::model::LoadPoint;
-
-/// A stick node at the limit leaves it only if the slack `f p - |q|` falls
-/// faster than this per unit of the increment parameter: over a whole
-/// increment the friction law then holds to `RATE_TOL`, well inside
-/// [`TRACTION_TOL`].
-const RATE_TOL: f64 = 1e-13;
-
-/// Relative width of a tie between the first events of two nodes: a node
-/// whose first event comes within this of the earliest is tested exactly
-/// (far wider than the round-off in which the branch-free times and the
-/// exact test can differ).
-const EVENT_TIES: f64 = 1e-9;
-
-/// The round-off allowed between a node's end margin as one scan takes it
-/// and as the next scan, from the state the move there left, would take it
-/// (in the same units as the tractions, like [`SCREEN`] and
-/// [`TRACTION_TOL`]: the move recomputes `p` and `q` from their elastic and
-/// residual parts, a few ulps of numbers of order one away), and,
-/// relative, in the bound on the fall of a margin over a segment.
-const CLEARANCE_SLACK: f64 = 1e-10;
 
 /// A slip set of fewer than `N / SET_LOOP_SHARE` nodes has its slip moved
 /// node by node (indexed, about 20 instructions a node); a larger one by a
@@ -318,8 +301,8 @@ pub(crate) struct Engine {
     gy_scale: Option<f64>,
     /// Test only: the passes over the rates and the end margins that the
     /// bounds spared.
-    #[cfg(test)]
-    spared: [usize; 2],
+    #[cfg(feature = "counters")]
+    pub(crate) spared: [usize; 2],
     /// Per axis (`u1`, `u2`), the fastest any node's end margin can fall
     /// per unit of load along it ([`kernels::reach`]), once asked for: it
     /// follows the totals and the set.
@@ -332,11 +315,8 @@ pub(crate) struct Engine {
     clearance: Option<(LoadPoint, f64)>,
     /// Rate-problem scratch.
     trial: Vec<SlipDirection>,
-    /// The stick nodes at the friction limit at the rate problem's point,
-    /// for the `off` of the present set, in node order; and the scratch
-    /// they are merged into when the set changes ([`Engine::relimit`]).
+    /// The stick nodes at the friction limit at the rate problem's point.
     candidates: Vec<usize>,
-    merged: Vec<usize>,
     before: Vec<SlipDirection>,
     seen: Vec<u64>,
     /// Nodes held stuck where a trial set would hold every node.
@@ -407,53 +387,6 @@ impl Engine {
             self.off[j] = if slips { f64::INFINITY } else { 0.0 };
         }
         self.changes = changes;
-    }
-
-    /// The stick nodes at the friction limit after a change of set at the
-    /// same state: those of the last set, and of the nodes it changed at
-    /// (`changes`, whose `off` changed), tested again. Every other node's
-    /// test reads the same `p`, `q` and `off` as before, so the list is the
-    /// one [`at_limit`] would make (a second pass over every node per rate
-    /// problem was about 4 % of a run at `N = 1024`).
-    fn relimit(&mut self, p: &[f64], q: &[f64], f: f64) {
-        // The test of `at_limit_kernel`, in the same operations.
-        let at = |j: usize| f * p[j] - q[j].abs() + self.off[j] <= TRACTION_TOL;
-        let (old, changes) = (&self.candidates, &self.changes);
-        let merged = &mut self.merged;
-        merged.clear();
-        let (mut a, mut b) = (0, 0);
-        while a < old.len() || b < changes.len() {
-            let j = match (old.get(a), changes.get(b)) {
-                (Some(&x), Some(&y)) if x == y => {
-                    a += 1;
-                    b += 1;
-                    x
-                }
-                (Some(&x), Some(&y)) if x < y => {
-                    a += 1;
-                    x
-                }
-                (Some(&x), None) => {
-                    a += 1;
-                    x
-                }
-                (_, Some(&y)) => {
-                    b += 1;
-                    y
-                }
-                (None, None) => unreachable!("the loop stops when both are done"),
-            };
-            if at(j) {
-                merged.push(j);
-            }
-        }
-        std::mem::swap(&mut self.candidates, &mut self.merged);
-        #[cfg(test)]
-        {
-            let mut full = Vec::new();
-            at_limit(p, q, &self.off, f, &mut full);
-            assert_eq!(self.candidates, full, "kept candidates differ from a pass");
-        }
     }
 
     /// The load direction `u1` (axis 0) or `u2` (axis 1).
@@ -553,7 +486,7 @@ impl Engine {
                 + ulps * ((a1.abs() + b1.abs()) * g1 + (a2.abs() + b2.abs()) * g2);
             let threshold = -DG_TOL * (seen.scale - shift) * (1.0 - 1e-6);
             if seen.worst - shift >= threshold {
-                #[cfg(test)]
+                #[cfg(feature = "counters")]
                 {
                     self.spared[0] += 1;
                 }
@@ -742,13 +675,12 @@ impl Engine {
             gx_extremes: None,
             rates_seen: None,
             gy_scale: None,
-            #[cfg(test)]
+            #[cfg(feature = "counters")]
             spared: [0; 2],
             reach: [None; 2],
             clearance: None,
             trial: vec![SlipDirection::Stick; n],
             candidates: Vec::with_capacity(n),
-            merged: Vec::with_capacity(n),
             before: vec![SlipDirection::Stick; n],
             seen: Vec::new(),
             held: Vec::with_capacity(MAX_HELD),
@@ -896,7 +828,6 @@ impl Contact {
         // would only ask for it).
         let mut entry = false;
         loop {
-            #[cfg(test)]
             if self.refuse_runs && self.segment_increments > 1 && s > 0.0 {
                 return self.last_resort(target, s, w);
             }
@@ -1212,7 +1143,7 @@ impl Contact {
                     };
                 let ahead = c - fall * (1.0 + CLEARANCE_SLACK) - CLEARANCE_SLACK;
                 if ahead >= SCREEN {
-                    #[cfg(test)]
+                    #[cfg(feature = "counters")]
                     {
                         w.engine.spared[1] += 1;
                     }
@@ -1462,14 +1393,7 @@ impl Contact {
     /// nodes (a test compares it with one that may not).
     #[inline]
     fn bounded(&self) -> bool {
-        #[cfg(test)]
-        {
-            !self.unbounded
-        }
-        #[cfg(not(test))]
-        {
-            true
-        }
+        !self.unbounded
     }
 
     /// `p` and `q` at the current load from the elastic and residual parts.
@@ -1558,13 +1482,7 @@ impl Contact {
             // Stick nodes at the friction limit: elsewhere (off the limit on
             // both sides, `f p - |q|` being the lower slack, or slipping)
             // there is nothing to decide.
-            if iteration == 1 {
-                at_limit(&self.pressure, &self.shear, &e.off, f, &mut e.candidates);
-            } else {
-                // The state has not moved since the first iteration, and
-                // `off` has changed only at the nodes the set changed at.
-                e.relimit(&self.pressure, &self.shear, f);
-            }
+            at_limit(&self.pressure, &self.shear, &e.off, f, &mut e.candidates);
             for &j in &e.candidates {
                 let (p, q) = (self.pressure[j], self.shear[j]);
                 // The rates of p and q along the segment, at this node only.
@@ -1738,7 +1656,7 @@ impl Contact {
 
 #[cfg(test)]
 mod tests {
-    use super::super::solver::tests::direction;
+    use super::super::tests::direction;
     use super::{Engine, SetKey};
     use proptest::prelude::*;
 
@@ -1836,7 +1754,9 @@ mod tests {
         let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
         let disc = Discretisation::default();
         let ops = crate::stepping::operators(&disc);
+        #[cfg(feature = "counters")]
         let mut spared = [0; 2];
+        #[cfg(feature = "counters")]
         let mut increments = 0;
         for (phase, lambda, steps) in [
             (0.5, 5.5, 400),
@@ -1863,7 +1783,10 @@ mod tests {
                 let a = bounded.advance(load);
                 let b = unbounded.advance(load);
                 assert_eq!(a, b, "at {load:?}");
-                increments += 1;
+                #[cfg(feature = "counters")]
+                {
+                    increments += 1;
+                }
                 let (ia, ib) = (bounded.last_increment(), unbounded.last_increment());
                 assert_eq!(ia.dissipation.to_bits(), ib.dissipation.to_bits());
                 assert_eq!(bits(&ia.forward), bits(&ib.forward));
@@ -1877,15 +1800,20 @@ mod tests {
                     break;
                 }
             }
-            let e = &bounded.work.as_ref().expect("advanced").engine;
-            spared[0] += e.spared[0];
-            spared[1] += e.spared[1];
-            let u = &unbounded.work.as_ref().expect("advanced").engine;
-            assert_eq!(u.spared, [0, 0]);
+            #[cfg(feature = "counters")]
+            {
+                let e = &bounded.work.as_ref().expect("advanced").engine;
+                spared[0] += e.spared[0];
+                spared[1] += e.spared[1];
+                let u = &unbounded.work.as_ref().expect("advanced").engine;
+                assert_eq!(u.spared, [0, 0]);
+            }
         }
         // The end margins of most increments; the rates of a few (those
         // of straight runs whose set holds: along an ellipse the direction
         // turns too far between increments).
+        // The bounds spare passes (counted with the `counters` feature).
+        #[cfg(feature = "counters")]
         assert!(
             2 * spared[1] > increments && spared[0] > 20,
             "{spared:?} of {increments} increments' passes spared"

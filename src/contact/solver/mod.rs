@@ -7,14 +7,21 @@
 //! solved by an active-set iteration warm-started from the previous
 //! increment's slip set. The system matrix depends only on `(S, s)`, so its
 //! LU factorisation is kept and reused while the slip set does not change.
+//!
+//! [`Contact`]'s data and its methods live in this folder: the state, its
+//! accessors and the finite step here, the exact path-following increment
+//! ([`Contact::advance`]) and its engine in [`increment`].
 
 use std::f64::consts::PI;
 
-use super::increment::{Engine, Increment};
+mod increment;
 use super::inverse::SetInverse;
+use super::kernels::DenseLu;
 use super::operators::{FftScratch, Operators};
-use super::reduced::ReducedSolver;
+use super::tolerances::{DG_TOL, GROSS_TOL, TRACTION_TOL};
 use crate::model::{LoadPoint, Material};
+use increment::Engine;
+pub use increment::{ContactEvent, ContactEventKind, Increment};
 
 /// Direction of slip at one node during the last increment, named as the
 /// paper names it (model.md section 1.3): **forward** slip is `dh > 0`, that
@@ -221,6 +228,35 @@ pub(super) fn push_differences(a: &[SlipDirection], b: &[SlipDirection], out: &m
     out.extend(differ.map(|(i, _)| from + i));
 }
 
+/// `x` with `(-|D| - f diag(s) H)_SS x = rhs` for the slip set `set`
+/// (nodes and signs `s`), by a fresh LU with partial pivoting of the
+/// `k x k` reduced matrix. The finite step is the fallback of the exact
+/// increment and the public one-step solve, not a hot path: a fresh
+/// factorisation each pass is the simple way, and the path-following
+/// increment keeps its own low-rank updated inverse ([`SetInverse`]).
+fn solve_reduced(
+    lu: &mut DenseLu,
+    ops: &Operators,
+    friction: f64,
+    set: &[(usize, f64)],
+    rhs: &[f64],
+    x: &mut [f64],
+) {
+    let k = set.len();
+    lu.reserve(ops.nodes());
+    for (b, &(col, _)) in set.iter().enumerate() {
+        let hcol = ops.hilbert_col(col);
+        let dcol = ops.abs_derivative_col(col);
+        let out = &mut lu.lu[b * k..(b + 1) * k];
+        for (o, &(row, sign)) in out.iter_mut().zip(set) {
+            *o = -dcol[row] - friction * sign * hcol[row];
+        }
+    }
+    lu.factorise(k);
+    x.copy_from_slice(rhs);
+    lu.solve(x);
+}
+
 /// A hash of a slip set with directions, to notice a cycling active set.
 pub(super) fn fingerprint(dirs: &[SlipDirection]) -> u64 {
     use std::hash::{Hash, Hasher};
@@ -229,12 +265,6 @@ pub(super) fn fingerprint(dirs: &[SlipDirection]) -> u64 {
     h.finish()
 }
 
-/// Tolerance on the friction inequality, in units of the traction `p0`.
-pub(super) const TRACTION_TOL: f64 = 1e-12;
-/// A slip node whose `s dg` is below `-DG_TOL * max|dg|` has reversed.
-pub(super) const DG_TOL: f64 = 1e-10;
-/// `|y|` within this relative distance of `2 pi` is on the torque limit.
-pub(super) const GROSS_TOL: f64 = 1e-9;
 /// Where a trial slip set would hold every node off the torque limit, one
 /// node is held stuck instead, and if that fails the next: at most this
 /// many in one search (model.md section 3.2, "Every node at the limit").
@@ -311,7 +341,8 @@ pub(super) struct Workspace {
     pressure_change: Vec<f64>,
     relief: Vec<f64>,
     pub(super) fft: FftScratch,
-    pub(super) reduced: ReducedSolver,
+    /// The LU of the finite step's reduced system.
+    reduced: DenseLu,
     /// The inverse of the exact increment's reduced matrix.
     pub(super) inverse: SetInverse,
     /// The exact path-following increment's cached responses and scratch.
@@ -331,7 +362,8 @@ impl Clone for Workspace {
             pressure_change: self.pressure_change.clone(),
             relief: self.relief.clone(),
             fft: self.fft.clone(),
-            reduced: self.reduced.clone(),
+            // The LU is scratch: a clone starts empty.
+            reduced: DenseLu::new(0),
             inverse: self.inverse.clone(),
             engine,
         }
@@ -349,7 +381,7 @@ impl Workspace {
             pressure_change: vec![0.0; n],
             relief: vec![0.0; n],
             fft: FftScratch::default(),
-            reduced: ReducedSolver::new(n),
+            reduced: DenseLu::new(0),
             inverse: SetInverse::new(n),
             engine: Engine::new(n),
         }
@@ -383,14 +415,14 @@ pub struct Contact {
     /// Increments of the caller's path that the next segments span (see
     /// [`Contact::set_segment_increments`]).
     pub(super) segment_increments: usize,
-    /// Test only: over a straight run, do not settle at the first event
-    /// (to exercise the stepper's way round that).
-    #[cfg(test)]
+    /// For tests (false otherwise): over a straight run, do not settle at
+    /// the first event (to exercise the stepper's way round that). A plain
+    /// switch, read once a segment, rather than a test-only build of the
+    /// increment.
     pub(crate) refuse_runs: bool,
-    /// Test only: the increment makes every pass its bounds would spare
-    /// (the clearance of the end margins, the rates' direction), so that a
-    /// test can compare the two.
-    #[cfg(test)]
+    /// For tests (false otherwise): the increment makes every pass its
+    /// bounds would spare (the clearance of the end margins, the rates'
+    /// direction), so that a test can compare the two.
     pub(crate) unbounded: bool,
 }
 
@@ -424,9 +456,7 @@ impl Contact {
             increment: Increment::new(n),
             pause_at_events: false,
             segment_increments: 1,
-            #[cfg(test)]
             refuse_runs: false,
-            #[cfg(test)]
             unbounded: false,
         };
         c.refresh();
@@ -720,10 +750,15 @@ impl Contact {
                 for (r, &(j, s)) in w.rhs.iter_mut().zip(&w.set) {
                     *r = -(w.q0[j] - s * f * w.p0[j]);
                 }
-                let before = w.reduced.factorisations;
-                w.reduced
-                    .solve(&self.ops, f, &w.set, &w.rhs[..k], &mut w.x[..k]);
-                factorisations += w.reduced.factorisations - before;
+                solve_reduced(
+                    &mut w.reduced,
+                    &self.ops,
+                    f,
+                    &w.set,
+                    &w.rhs[..k],
+                    &mut w.x[..k],
+                );
+                factorisations += 1;
                 for (&d, &(col, _)) in w.x[..k].iter().zip(&w.set) {
                     if !d.is_finite() {
                         return Err(ContactError::NotSettled {

@@ -1,53 +1,7 @@
-//! The `O(N)` passes of the exact increment ([`super::increment`]), run
-//! with the widest vector instructions the processor has.
-//!
-//! Every pass over the nodes of an increment (the end margins of a segment,
-//! the move along it, the rates of the slip set, the nodes at the friction
-//! limit) is a plain loop over a few arrays. The release build targets the
-//! baseline `x86_64` (SSE2, two lanes); each pass here is compiled once per
-//! instruction set that [`pulp::Arch`] knows (AVX2 with four lanes among
-//! them) and the best is chosen at run time, so one binary runs on any
-//! `x86_64` and uses AVX2 where it exists. The two passes that dominate an
-//! increment ([`end_margins`] and [`slide`]) are written in `pulp`'s
-//! vectors, because the compiler does not vectorise them by itself; the
-//! rest are loops it vectorises, as are the passes that pack a slip vector
-//! into the FFT of [`super::operators`] and its responses out of it.
-//!
-//! Results do not depend on the instruction set: every lane does the scalar
-//! operations in the scalar order (no fused multiply-add is formed: Rust
-//! does not contract `a * b + c`), minima do not depend on order, and the
-//! one sum (the dissipation of a move) is kept in four lanes on every
-//! processor. The tests below compare the bits on the dispatched, the
-//! scalar and emulated two- and four-lane instruction sets.
+//! The `O(N)` node passes of the exact increment (see [`super`]).
 
-use super::solver::TRACTION_TOL;
-
-/// Defines `pub(super) fn $name(args) -> out { body }` with `body` compiled
-/// once for each instruction set [`pulp::Arch`] knows and the best chosen
-/// at run time. The body goes into a [`pulp::WithSimd`] operation whose
-/// `with_simd` is generic over the instruction set and always inlined, so
-/// every copy is inlined into a function compiled for its instruction set
-/// (a closure would be compiled once, for the baseline, and called from
-/// each).
-macro_rules! wide {
-    ($(#[$doc:meta])* fn $name:ident<$lt:lifetime>($($arg:ident: $ty:ty),* $(,)?) -> $out:ty $body:block) => {
-        $(#[$doc])*
-        pub(super) fn $name<$lt>($($arg: $ty),*) -> $out {
-            struct Op<$lt> {
-                $($arg: $ty,)*
-            }
-            impl<$lt> pulp::WithSimd for Op<$lt> {
-                type Output = $out;
-                #[inline(always)]
-                fn with_simd<S: pulp::Simd>(self, _: S) -> $out {
-                    let Op { $($arg),* } = self;
-                    $body
-                }
-            }
-            pulp::Arch::new().dispatch(Op { $($arg),* })
-        }
-    };
-}
+use super::four;
+use crate::contact::tolerances::TRACTION_TOL;
 
 wide! {
     /// The nodes where `f p - |q| + off <= TRACTION_TOL` into `out` (see
@@ -66,7 +20,13 @@ wide! {
 
 /// The end margins of a segment and the lowest (see
 /// [`end_margins_kernel`]), in the widest vectors of this processor.
-pub(super) fn end_margins(v: [&[f64]; 7], f: f64, ex: f64, ey: f64, out: &mut [f64]) -> f64 {
+pub(in crate::contact) fn end_margins(
+    v: [&[f64]; 7],
+    f: f64,
+    ex: f64,
+    ey: f64,
+    out: &mut [f64],
+) -> f64 {
     struct Op<'a> {
         v: [&'a [f64]; 7],
         f: f64,
@@ -113,7 +73,7 @@ wide! {
 /// slip set that outlives a segment, so it is written in vectors like the
 /// passes of an increment (with the instruction set's `simd` in hand, as
 /// [`end_margins`], which the `wide!` bodies do not have).
-pub(super) fn reach(tp: &[f64], tq: &[f64], off: &[f64], f: f64) -> f64 {
+pub(in crate::contact) fn reach(tp: &[f64], tq: &[f64], off: &[f64], f: f64) -> f64 {
     struct Op<'a> {
         tp: &'a [f64],
         tq: &'a [f64],
@@ -131,7 +91,13 @@ pub(super) fn reach(tp: &[f64], tq: &[f64], off: &[f64], f: f64) -> f64 {
 }
 
 #[inline(always)]
-fn reach_kernel<S: pulp::Simd>(simd: S, tp: &[f64], tq: &[f64], off: &[f64], f: f64) -> f64 {
+pub(in crate::contact) fn reach_kernel<S: pulp::Simd>(
+    simd: S,
+    tp: &[f64],
+    tq: &[f64],
+    off: &[f64],
+    f: f64,
+) -> f64 {
     let n = tp.len();
     let (tq, off) = (&tq[..n], &off[..n]);
     let node = |p: f64, q: f64, off: f64| {
@@ -180,10 +146,10 @@ fn reach_kernel<S: pulp::Simd>(simd: S, tp: &[f64], tq: &[f64], off: &[f64], f: 
 /// `q = -qt - qr cos` (model.md section 2), per unit of the radial force
 /// and torque terms.
 #[derive(Clone, Copy)]
-pub(super) struct Elastic {
-    pub(super) pr: f64,
-    pub(super) qr: f64,
-    pub(super) qt: f64,
+pub(in crate::contact) struct Elastic {
+    pub(in crate::contact) pr: f64,
+    pub(in crate::contact) qr: f64,
+    pub(in crate::contact) qt: f64,
 }
 
 wide! {
@@ -204,22 +170,22 @@ wide! {
 /// A move by `(tx, ty)` along the responses `u1`, `u2` with slip rates
 /// `rg` along the segment, over the segment parameter `t`; see
 /// [`slide_kernel`].
-pub(super) struct Slide<'a> {
-    pub(super) t: f64,
-    pub(super) tx: f64,
-    pub(super) ty: f64,
-    pub(super) elastic: Elastic,
+pub(in crate::contact) struct Slide<'a> {
+    pub(in crate::contact) t: f64,
+    pub(in crate::contact) tx: f64,
+    pub(in crate::contact) ty: f64,
+    pub(in crate::contact) elastic: Elastic,
     /// `H g'` and `-|D| g'` along `u1` and `u2`: `[hpx, hpy, hqx, hqy]`.
-    pub(super) responses: [&'a [f64]; 4],
+    pub(in crate::contact) responses: [&'a [f64]; 4],
     /// `[sin, cos]` at the nodes.
-    pub(super) trig: [&'a [f64]; 2],
+    pub(in crate::contact) trig: [&'a [f64]; 2],
     /// Slip rates per unit `u1` and `u2` (0 off the slip set), or, with
     /// `along` `None`, the rates along the segment and an empty slice.
-    pub(super) rates: [&'a [f64]; 2],
+    pub(in crate::contact) rates: [&'a [f64]; 2],
     /// The segment's direction `(a1, a2)` in `u1`, `u2`: the rate of a
     /// node along it is `a1 gx + a2 gy`, the bits of [`combine`] (so the
     /// move need not wait for that pass); `None` if `rates[0]` holds them.
-    pub(super) along: Option<[f64; 2]>,
+    pub(in crate::contact) along: Option<[f64; 2]>,
 }
 
 /// The slip of a move and its positive and negative parts, moved with it
@@ -229,11 +195,11 @@ pub(super) struct Slide<'a> {
 /// pass that clears them first). Off the slip set the rate is 0 and this
 /// adds exactly nothing, so the pass gives the bits of a loop over the
 /// set's nodes.
-pub(super) struct SlipOut<'a> {
-    pub(super) slip: &'a mut [f64],
-    pub(super) forward: &'a mut [f64],
-    pub(super) backward: &'a mut [f64],
-    pub(super) fresh: bool,
+pub(in crate::contact) struct SlipOut<'a> {
+    pub(in crate::contact) slip: &'a mut [f64],
+    pub(in crate::contact) forward: &'a mut [f64],
+    pub(in crate::contact) backward: &'a mut [f64],
+    pub(in crate::contact) fresh: bool,
 }
 
 /// Move the residual tractions `rp`, `rq` and the tractions `p`, `q`
@@ -243,7 +209,7 @@ pub(super) struct SlipOut<'a> {
 /// is 0, so those nodes add exactly nothing. With `slip`, the slip moves
 /// in the same pass (a second pass over the rates cost a sixth of an
 /// unchanged-set increment).
-pub(super) fn slide(s: &Slide, v: [&mut [f64]; 4], slip: Option<SlipOut>) -> [f64; 4] {
+pub(in crate::contact) fn slide(s: &Slide, v: [&mut [f64]; 4], slip: Option<SlipOut>) -> [f64; 4] {
     struct Op<'a, 'b> {
         s: &'b Slide<'a>,
         v: [&'b mut [f64]; 4],
@@ -312,7 +278,12 @@ pub(super) fn slide(s: &Slide, v: [&mut [f64]; 4], slip: Option<SlipOut>) -> [f6
 /// parts ([`SlipOut`]), or with `FRESH` the parts set rather than added
 /// to.
 #[inline(always)]
-fn slip_node<const FRESH: bool>(dg: f64, g: &mut f64, fw: &mut f64, bw: &mut f64) {
+pub(in crate::contact) fn slip_node<const FRESH: bool>(
+    dg: f64,
+    g: &mut f64,
+    fw: &mut f64,
+    bw: &mut f64,
+) {
     *g += dg;
     let (pos, neg) = (
         if 0.0 < dg { dg } else { 0.0 },
@@ -333,7 +304,7 @@ fn slip_node<const FRESH: bool>(dg: f64, g: &mut f64, fw: &mut f64, bw: &mut f64
 /// and at `N = 1024`, where the pass streams its arrays from the second
 /// level of the cache, two of them less are 15 % of its instructions.
 #[inline(always)]
-fn slide_wide<
+pub(in crate::contact) fn slide_wide<
     S: pulp::Simd,
     const ONE: bool,
     const COMBINED: bool,
@@ -437,7 +408,11 @@ fn slide_wide<
 }
 
 #[inline(always)]
-fn slide_kernel<const COMBINED: bool, const SLIP: bool, const FRESH: bool>(
+pub(in crate::contact) fn slide_kernel<
+    const COMBINED: bool,
+    const SLIP: bool,
+    const FRESH: bool,
+>(
     s: &Slide,
     [rp, rq, p, q]: [&mut [f64]; 4],
     [g, fw, bw]: [&mut [f64]; 3],
@@ -477,7 +452,13 @@ fn slide_kernel<const COMBINED: bool, const SLIP: bool, const FRESH: bool>(
 /// order: a branch-free test of four nodes at a time, and a look at each
 /// only in the rare groups that hold one.
 #[inline(always)]
-fn at_limit_kernel(p: &[f64], q: &[f64], off: &[f64], f: f64, out: &mut Vec<usize>) {
+pub(in crate::contact) fn at_limit_kernel(
+    p: &[f64],
+    q: &[f64],
+    off: &[f64],
+    f: f64,
+    out: &mut Vec<usize>,
+) {
     out.clear();
     let slack = |j: usize| f * p[j] - q[j].abs() + off[j];
     let groups = four(p).iter().zip(four(q)).zip(four(off));
@@ -502,7 +483,7 @@ fn at_limit_kernel(p: &[f64], q: &[f64], off: &[f64], f: f64, out: &mut Vec<usiz
 
 /// `(max |r|, min s r)` over the nodes, in four lanes.
 #[inline(always)]
-fn rate_extremes_kernel(r: &[f64], sgn: &[f64]) -> (f64, f64) {
+pub(in crate::contact) fn rate_extremes_kernel(r: &[f64], sgn: &[f64]) -> (f64, f64) {
     let mut big = [0.0f64; 4];
     let mut low = [0.0f64; 4];
     let (rc, sc) = (r.chunks_exact(4), sgn.chunks_exact(4));
@@ -579,7 +560,7 @@ wide! {
 /// at the friction limit already with its slack falling (the rate problem
 /// must decide it). Branch-free, so the compiler vectorises the pass.
 #[inline(always)]
-fn event_time(v: [f64; 7], along: [f64; 3], f: f64, rate_tol: f64) -> f64 {
+pub(in crate::contact) fn event_time(v: [f64; 7], along: [f64; 3], f: f64, rate_tol: f64) -> f64 {
     let [p, q, px, py, qx, qy, off] = v;
     let [dx, dy, remaining] = along;
     let a = dx * px + dy * py;
@@ -600,11 +581,6 @@ fn event_time(v: [f64; 7], along: [f64; 3], f: f64, rate_tol: f64) -> f64 {
     }
 }
 
-/// A node whose end margin (below) is under this is tested exactly. The
-/// margin is the exact test's quantity summed in another order, so a node a
-/// round-off above zero is tested too.
-pub(super) const SCREEN: f64 = 1e-9;
-
 /// The margins at the end of the segment into `out`, and the lowest: at
 /// each node the lower of its end pressure and its end slack `f p -+ q`
 /// (plus `TRACTION_TOL`, and infinite on slip nodes through `off`).
@@ -613,7 +589,7 @@ pub(super) const SCREEN: f64 = 1e-9;
 /// a minimum does not depend on the order it is taken in, so the result is
 /// the same on every instruction set.
 #[inline(always)]
-fn end_margins_kernel<S: pulp::Simd>(
+pub(in crate::contact) fn end_margins_kernel<S: pulp::Simd>(
     simd: S,
     v: [&[f64]; 7],
     f: f64,
@@ -688,419 +664,4 @@ fn end_margins_kernel<S: pulp::Simd>(
         lowest = lowest.min(m);
     }
     lowest
-}
-
-/// The whole groups of four of `s`, as arrays (no length checks in a loop
-/// over them).
-#[inline(always)]
-pub(super) fn four(s: &[f64]) -> &[[f64; 4]] {
-    s.as_chunks::<4>().0
-}
-
-wide! {
-    /// `pairs = (x_j, 0)` for every `j`: a real vector as complex numbers
-    /// (`{ re, im }` pairs) for the FFT of [`super::operators`].
-    fn to_complex<'a>(pairs: &'a mut [f64], x: &'a [f64]) -> () {
-        for (pair, &x) in pairs.chunks_exact_mut(2).zip(x) {
-            pair[0] = x;
-            pair[1] = 0.0;
-        }
-    }
-}
-
-wide! {
-    /// `x *= s` elementwise.
-    fn scale<'a>(x: &'a mut [f64], s: &'a [f64]) -> () {
-        for (x, &s) in x.iter_mut().zip(s) {
-            *x *= s;
-        }
-    }
-}
-
-wide! {
-    /// The real parts of complex numbers (`{ re, im }` pairs) into `re`,
-    /// and the imaginary parts into `im`.
-    fn from_complex<'a>(pairs: &'a [f64], re: &'a mut [f64], im: &'a mut [f64]) -> () {
-        for ((pair, re), im) in pairs.chunks_exact(2).zip(re.iter_mut()).zip(im.iter_mut()) {
-            *re = pair[0];
-            *im = pair[1];
-        }
-    }
-}
-
-wide! {
-    /// [`from_complex`] negated into `hq` (`-|D| g'`) and `hp` (`H g'`),
-    /// and the totals `tp = (ux epx + uy epy) + hp`, `tq = (ux eqx + uy
-    /// eqy) + hq` ([`combine_plus`]) in the same pass, in the same
-    /// operations: the bits of the two passes, with the responses read
-    /// once (the totals' own pass was some 4 % of a run at `N = 1024`).
-    fn from_complex_totals<'a>(
-        pairs: &'a [f64],
-        h: [&'a mut [f64]; 2],
-        t: [&'a mut [f64]; 2],
-        u: (f64, f64),
-        elastic: [&'a [f64]; 4],
-    ) -> () {
-        let [hp, hq] = h;
-        let [tp, tq] = t;
-        let (ux, uy) = u;
-        let [epx, epy, eqx, eqy] = elastic;
-        let n = hp.len();
-        let (hq, tp, tq) = (&mut hq[..n], &mut tp[..n], &mut tq[..n]);
-        let (epx, epy, eqx, eqy) = (&epx[..n], &epy[..n], &eqx[..n], &eqy[..n]);
-        for (j, pair) in pairs[..2 * n].chunks_exact(2).enumerate() {
-            let q = -pair[0];
-            let p = pair[1];
-            hp[j] = p;
-            hq[j] = q;
-            tp[j] = (ux * epx[j] + uy * epy[j]) + p;
-            tq[j] = (ux * eqx[j] + uy * eqy[j]) + q;
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use pulp::{Scalar, Scalar128b, Scalar256b, Simd, WithSimd};
-
-    /// Reproducible values in `[-1, 1)` (a linear congruential sequence).
-    fn values(n: usize, seed: u64) -> Vec<f64> {
-        let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-        (0..n)
-            .map(|_| {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (s >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-            })
-            .collect()
-    }
-
-    /// Runs `op` on one instruction set chosen by the test, not by the
-    /// processor.
-    fn on<S: Simd, R>(simd: S, op: impl WithSimd<Output = R>) -> R {
-        op.with_simd(simd)
-    }
-
-    struct Margins<'a>(&'a [Vec<f64>], &'a mut Vec<f64>);
-    impl WithSimd for Margins<'_> {
-        type Output = f64;
-        fn with_simd<S: Simd>(self, simd: S) -> f64 {
-            let v = std::array::from_fn(|i| self.0[i].as_slice());
-            end_margins_kernel(simd, v, 0.3, 0.7, -0.2, self.1)
-        }
-    }
-
-    /// The end margins are the same bits on every instruction set and
-    /// every vector width, tail included (131 nodes: not a multiple of 4).
-    #[test]
-    fn end_margins_do_not_depend_on_the_instruction_set() {
-        let n = 131;
-        let mut v: Vec<Vec<f64>> = (0..7).map(|i| values(n, i)).collect();
-        // Slip nodes: an infinite offset, as the increment sets it.
-        for j in (0..n).step_by(5) {
-            v[6][j] = f64::INFINITY;
-        }
-        let mut out = vec![0.0; n];
-        let dispatched = end_margins(
-            std::array::from_fn(|i| v[i].as_slice()),
-            0.3,
-            0.7,
-            -0.2,
-            &mut out,
-        );
-        let mut runs = Vec::new();
-        for width in 0..3 {
-            let mut o = vec![0.0; n];
-            let low = match width {
-                0 => on(Scalar::new(), Margins(&v, &mut o)),
-                1 => on(Scalar128b, Margins(&v, &mut o)),
-                _ => on(Scalar256b, Margins(&v, &mut o)),
-            };
-            runs.push((low, o));
-        }
-        for (low, o) in runs {
-            assert_eq!(low.to_bits(), dispatched.to_bits());
-            assert!(o.iter().zip(&out).all(|(a, b)| a.to_bits() == b.to_bits()));
-            assert_eq!(low, o.iter().fold(f64::INFINITY, |m, &x| m.min(x)));
-        }
-    }
-
-    /// The nodes at the limit are those of a plain filter, in node order,
-    /// tail included (131 nodes): stick nodes at `|q| = f p` exactly, one
-    /// a round-off inside, several in one group of four, none in others;
-    /// slip nodes (an infinite offset) never.
-    #[test]
-    fn at_limit_lists_the_stick_nodes_at_the_friction_limit() {
-        let (n, f) = (131, 0.3);
-        let p: Vec<f64> = values(n, 70).iter().map(|v| v + 1.5).collect();
-        let mut q: Vec<f64> = values(n, 71)
-            .iter()
-            .zip(&p)
-            .map(|(v, p)| v * f * p)
-            .collect();
-        let mut off = vec![0.0; n];
-        for j in [0, 5, 6, 7, 64, 129, 130] {
-            q[j] = if j % 2 == 0 { f * p[j] } else { -f * p[j] };
-        }
-        q[40] = f * p[40] - 0.5 * TRACTION_TOL;
-        for j in [6, 90] {
-            off[j] = f64::INFINITY;
-            q[j] = f * p[j];
-        }
-        let mut out = vec![usize::MAX; 3];
-        at_limit(&p, &q, &off, f, &mut out);
-        let expected: Vec<usize> = (0..n)
-            .filter(|&j| f * p[j] - q[j].abs() + off[j] <= TRACTION_TOL)
-            .collect();
-        assert_eq!(out, expected);
-        assert_eq!(out, vec![0, 5, 7, 40, 64, 129, 130]);
-    }
-
-    /// The first-event pass gives, at every node (tail included: 131
-    /// nodes), the bits of the scalar [`event_time`], and their minimum;
-    /// and the times it gives are the roots of the affine slack and
-    /// pressure it watches.
-    #[test]
-    fn event_times_are_the_scalar_first_events() {
-        let (n, f) = (131, 0.3);
-        let mut v: Vec<Vec<f64>> = (20..27).map(|i| values(n, i)).collect();
-        // Pressures in [0.5, 1.5) and shears inside the friction cone;
-        // slip nodes (an infinite offset) every fifth; stick nodes at the
-        // friction limit every seventh.
-        let (p, rest) = v.split_at_mut(1);
-        for (j, (p, q)) in p[0].iter_mut().zip(&mut rest[0]).enumerate() {
-            *p += 1.5;
-            *q = if j % 7 == 0 { f * *p } else { *q * f * *p };
-        }
-        for (j, off) in v[6].iter_mut().enumerate() {
-            *off = if j % 5 == 0 { f64::INFINITY } else { 0.0 };
-        }
-        // Along both axes, and along `u1` alone (the pass then reads no
-        // rate along `u2`).
-        for along in [[0.8, -0.6, 1.0], [0.8, 0.0, 1.0]] {
-            let mut out = vec![0.0; n];
-            let lowest = event_times(
-                std::array::from_fn(|i| v[i].as_slice()),
-                along,
-                f,
-                1e-13,
-                &mut out,
-            );
-            let mut kinds = [0; 3];
-            for j in 0..n {
-                let node: [f64; 7] = std::array::from_fn(|i| v[i][j]);
-                let t = event_time(node, along, f, 1e-13);
-                assert_eq!(out[j].to_bits(), t.to_bits(), "node {j}");
-                let [p, q, px, py, qx, qy, off] = node;
-                let a = along[0] * px + along[1] * py;
-                let b = along[0] * qx + along[1] * qy;
-                if t == -1.0 {
-                    // At the limit, its slack falling on one side.
-                    kinds[0] += 1;
-                    assert!(off == 0.0 && (f * p - q.abs()).abs() < 1e-12, "node {j}");
-                } else if t.is_finite() {
-                    kinds[1] += 1;
-                    // A root: the pressure, or a stick node's slack on a side.
-                    let roots = [
-                        p + t * a,
-                        f * (p + t * a) - (q + t * b),
-                        f * (p + t * a) + (q + t * b),
-                    ];
-                    let hit = roots.iter().take(if off == 0.0 { 3 } else { 1 });
-                    assert!(
-                        hit.into_iter().any(|r| r.abs() < 1e-9),
-                        "node {j}: {roots:?}"
-                    );
-                } else {
-                    kinds[2] += 1;
-                }
-            }
-            assert!(kinds.iter().all(|&k| k > 0), "{kinds:?}");
-            let min = out.iter().fold(f64::INFINITY, |m, &x| m.min(x));
-            assert_eq!(lowest, min);
-        }
-    }
-
-    /// The reach is the largest fall rate of a watched margin: `|tp|` at
-    /// every node, `f |tp| + |tq|` at the stick nodes only (a slip node's
-    /// large shear rate does not count), tail included; infinite if a
-    /// watched rate is not finite.
-    #[test]
-    fn reach_is_the_fastest_fall_of_a_watched_margin() {
-        let n = 131;
-        let (tp, mut tq) = (values(n, 60), values(n, 61));
-        let off: Vec<f64> = (0..n)
-            .map(|j| if j % 3 == 0 { f64::INFINITY } else { 0.0 })
-            .collect();
-        let f = 0.3;
-        let direct = |tp: &[f64], tq: &[f64]| {
-            (0..n)
-                .map(|j| {
-                    let slack = if j % 3 == 0 {
-                        0.0
-                    } else {
-                        f * tp[j].abs() + tq[j].abs()
-                    };
-                    tp[j].abs().max(slack)
-                })
-                .fold(0.0f64, f64::max)
-        };
-        assert_eq!(reach(&tp, &tq, &off, f), direct(&tp, &tq));
-        // A slip node's shear rate, however large, is not watched; a stick
-        // node's is, in the tail too.
-        tq[3] = 1e6;
-        assert_eq!(reach(&tp, &tq, &off, f), direct(&tp, &tq));
-        assert!(reach(&tp, &tq, &off, f) < 1e6);
-        tq[130] = 1e6;
-        assert_eq!(reach(&tp, &tq, &off, f), 1e6 + f * tp[130].abs());
-        tq[7] = f64::NAN;
-        assert_eq!(reach(&tp, &tq, &off, f), f64::INFINITY);
-    }
-
-    /// A move along the slip set gives the same bits in vectors of four
-    /// (the processor's and an emulated one) as in groups of four, with
-    /// and without the slip moved in the same pass, and the slip it moves
-    /// is, to the bit, that of a loop over the slip set's nodes (the rates
-    /// are 0 off the set, where the pass must change nothing), tail
-    /// included: added to `forward` and `backward`, or set there when
-    /// they are `fresh`.
-    #[test]
-    fn slide_does_not_depend_on_the_instruction_set() {
-        let n = 131;
-        let inputs: Vec<Vec<f64>> = (10..17).map(|i| values(n, i)).collect();
-        let (mut gx, mut gy) = (values(n, 20), values(n, 21));
-        let set: Vec<usize> = (0..n).filter(|j| j % 3 != 0).collect();
-        for j in (0..n).step_by(3) {
-            gx[j] = if j % 2 == 0 { 0.0 } else { -0.0 };
-            gy[j] = 0.0;
-        }
-        let along = [0.9, -0.3];
-        let rates: Vec<f64> = (0..n)
-            .map(|j| along[0] * gx[j] + along[1] * gy[j])
-            .collect();
-        // Two axes, and one (`ty = 0`: the pass then reads no response
-        // along `u2`, and gives the scalar pass's bits still).
-        let slide_along = |combined: bool, ty: f64| Slide {
-            t: 0.37,
-            tx: 0.8,
-            ty,
-            elastic: Elastic {
-                pr: 1.3,
-                qr: 0.6,
-                qt: 0.2,
-            },
-            responses: std::array::from_fn(|i| inputs[i].as_slice()),
-            trig: [&inputs[4], &inputs[5]],
-            rates: if combined { [&rates, &[]] } else { [&gx, &gy] },
-            along: (!combined).then_some(along),
-        };
-        let s = slide_along(false, -0.45);
-        let start: Vec<Vec<f64>> = (30..34).map(|i| values(n, i)).collect();
-        let slip_start = [values(n, 51), values(n, 52), values(n, 53)];
-        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-        for (slip, ty) in [None, Some(false), Some(true)]
-            .into_iter()
-            .flat_map(|slip| [(slip, -0.45), (slip, 0.0)])
-        {
-            let mut results = Vec::new();
-            // The rates along the segment given, or made in the pass from
-            // those per unit `u1` and `u2`.
-            for (combined, way) in [false, true]
-                .into_iter()
-                .flat_map(|c| (0..3).map(move |w| (c, w)))
-            {
-                let s = slide_along(combined, ty);
-                let mut v = start.clone();
-                let [a, b, c, d] = &mut v[..] else {
-                    unreachable!()
-                };
-                let parts = [&mut a[..], &mut b[..], &mut c[..], &mut d[..]];
-                let mut moved = slip_start.clone();
-                let [g, fw, bw] = &mut moved;
-                let none: [&mut [f64]; 3] = [&mut [], &mut [], &mut []];
-                macro_rules! by_way {
-                    ($o:literal, $c:literal) => {
-                        match (way, slip) {
-                            (0, _) => {
-                                let out = slip.map(|fresh| SlipOut {
-                                    slip: g,
-                                    forward: fw,
-                                    backward: bw,
-                                    fresh,
-                                });
-                                slide(&s, parts, out)
-                            }
-                            (1, None) => slide_kernel::<$c, false, false>(&s, parts, none),
-                            (1, Some(false)) => {
-                                slide_kernel::<$c, true, false>(&s, parts, [g, fw, bw])
-                            }
-                            (1, Some(true)) => {
-                                slide_kernel::<$c, true, true>(&s, parts, [g, fw, bw])
-                            }
-                            (_, None) => {
-                                slide_wide::<_, $o, $c, false, false>(Scalar256b, &s, parts, none)
-                            }
-                            (_, Some(false)) => slide_wide::<_, $o, $c, true, false>(
-                                Scalar256b,
-                                &s,
-                                parts,
-                                [g, fw, bw],
-                            ),
-                            (_, Some(true)) => slide_wide::<_, $o, $c, true, true>(
-                                Scalar256b,
-                                &s,
-                                parts,
-                                [g, fw, bw],
-                            ),
-                        }
-                    };
-                }
-                let lanes = match (ty == 0.0, combined) {
-                    (true, true) => by_way!(true, true),
-                    (true, false) => by_way!(true, false),
-                    (false, true) => by_way!(false, true),
-                    (false, false) => by_way!(false, false),
-                };
-                results.push((lanes, v, moved));
-            }
-            for (lanes, v, moved) in &results[1..] {
-                assert_eq!(bits(lanes), bits(&results[0].0));
-                for (x, y) in v.iter().zip(&results[0].1) {
-                    assert_eq!(bits(x), bits(y));
-                }
-                for (x, y) in moved.iter().zip(&results[0].2) {
-                    assert_eq!(bits(x), bits(y));
-                }
-            }
-            // The slip moved is the loop over the set's.
-            let [mut g, mut fw, mut bw] = slip_start.clone();
-            if slip == Some(true) {
-                fw.fill(0.0);
-                bw.fill(0.0);
-            }
-            if slip.is_some() {
-                for &j in &set {
-                    let dg = s.t * rates[j];
-                    g[j] += dg;
-                    fw[j] += dg.max(0.0);
-                    bw[j] += (-dg).max(0.0);
-                }
-            }
-            let moved = &results[0].2;
-            assert_eq!(bits(&moved[0]), bits(&g));
-            assert_eq!(bits(&moved[1]), bits(&fw));
-            assert_eq!(bits(&moved[2]), bits(&bw));
-            let changed = set.iter().any(|&j| moved[0][j] != slip_start[0][j]);
-            assert_eq!(slip.is_some(), changed);
-            // And the sum is the dissipation it stands for.
-            let (lanes, v, _) = &results[0];
-            let direct: f64 = (0..n)
-                .map(|j| (s.t * rates[j]).abs() * (start[2][j] + v[2][j]))
-                .sum();
-            let total: f64 = lanes.iter().sum();
-            assert!((total - direct).abs() <= 1e-12 * direct.abs().max(1.0));
-        }
-    }
 }

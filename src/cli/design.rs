@@ -1,0 +1,643 @@
+//! `shakedown design`: search transients `O -> P1 -> ... -> PK -> A` for one
+//! whose steady cycle shakes down (docs/model.md section 10), and
+//! `design --frontier`: the highest `lambda` at which a found path shakes
+//! down, per family and `K`.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Mutex;
+
+use anyhow::{anyhow, Result};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::json;
+use shakedown::analysis::case::{Case, CaseParams};
+use shakedown::analysis::design::{
+    frontier, initial_path_text, references, search, Budget, Candidate, DesignError, Family,
+    FrontierRow, Progress, Region, Runner, Shape,
+};
+use shakedown::io::csv::case_metadata;
+use shakedown::io::design::{frontier_csv, frontier_line};
+use shakedown::io::output::{check_folder, is_nonempty_file, OutputLock};
+use shakedown::stepping::steady::{Approach, SteadyState};
+use shakedown::stepping::Summary;
+
+use super::batch::{ctrl_c, lock_file_output, print_stdout, refuse_input_as_output, write_file};
+use super::{CaseArgs, InputError};
+
+/// The flags of `shakedown design`.
+#[derive(Debug, Args)]
+pub struct DesignArgs {
+    #[command(flatten)]
+    pub case: CaseArgs,
+    /// Vertices K of the path between O and A (1..16); with --frontier, the largest K (default 8).
+    #[arg(long, value_name = "K", allow_hyphen_values = true)]
+    pub vertices: Option<String>,
+    /// Seed of the search's random draws (the same seed and thread count give the same result).
+    #[arg(
+        long,
+        value_name = "S",
+        default_value = "1",
+        allow_hyphen_values = true
+    )]
+    pub seed: String,
+    /// Path family: free (K free vertices) or decaying (alternating loads of decreasing amplitude about A).
+    #[arg(long, value_name = "free|decaying", default_value = "free")]
+    pub family: String,
+    /// Particles of the swarm (default 24; 16 with --frontier).
+    #[arg(long, value_name = "P", allow_hyphen_values = true)]
+    pub particles: Option<String>,
+    /// Swarm generations after the first (default 20; 8 per search with --frontier).
+    #[arg(long, value_name = "I", allow_hyphen_values = true)]
+    pub iterations: Option<String>,
+    /// The highest lambda at which a found path shakes down, for K = 1..--vertices and both families, beside lambda_1, the best of the 25 and lambda_2 (CSV).
+    #[arg(long)]
+    pub frontier: bool,
+    /// With --frontier: write the CSV here too.
+    #[arg(long, value_name = "FILE", requires = "frontier")]
+    pub out: Option<PathBuf>,
+    /// Replace an existing, non-empty --out FILE.
+    #[arg(long)]
+    pub force: bool,
+    /// Print one JSON object instead of the readable report.
+    #[arg(long, conflicts_with = "frontier")]
+    pub json: bool,
+}
+
+fn number<T: std::str::FromStr>(flag: &str, text: &str, accepts: &str) -> Result<T> {
+    text.trim().parse::<T>().map_err(|_| {
+        anyhow!(InputError(format!(
+            "--{flag} {text}: not a whole number: expected {accepts}"
+        )))
+    })
+}
+
+fn family(text: &str) -> Result<Family> {
+    match text.trim().to_ascii_lowercase().as_str() {
+        "free" => Ok(Family::Free),
+        "decaying" => Ok(Family::Decaying),
+        _ => Err(anyhow!(InputError(format!(
+            "--family {text}: unknown family: expected free or decaying"
+        )))),
+    }
+}
+
+fn design_error(e: DesignError) -> anyhow::Error {
+    match e {
+        DesignError::Param(_) | DesignError::Vertices(_) => anyhow!(InputError(e.to_string())),
+        other => anyhow!(other),
+    }
+}
+
+/// A bar on stderr when it is a terminal: runs, and the best so far.
+fn bar(len: Option<usize>) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let b = match len {
+        Some(n) => ProgressBar::new(n as u64),
+        None => ProgressBar::new_spinner(),
+    };
+    let template = if len.is_some() {
+        "{bar:30} {pos}/{len} runs  {elapsed}  {msg}"
+    } else {
+        "{spinner} {pos} runs  {elapsed}  {msg}"
+    };
+    b.set_style(ProgressStyle::with_template(template).expect("valid template"));
+    b
+}
+
+fn best_message(p: &Progress) -> String {
+    let best = if p.best_cost < 0.0 {
+        "shakedown found".to_string()
+    } else {
+        format!("least W {:.3e}", p.best_cost)
+    };
+    match p.best_lambda {
+        Some(l) => format!("best lambda {l:.4}; searching at {:.4}: {best}", p.lambda),
+        None => format!("lambda {:.4}: {best}", p.lambda),
+    }
+}
+
+/// Run `shakedown design`.
+pub fn design(args: DesignArgs) -> Result<ExitCode> {
+    for flag in ["initial", "initial-path"] {
+        if let Some(v) = args.case.given(flag) {
+            return Err(anyhow!(InputError(format!(
+                "--{flag} {v}: design searches the initial path itself: drop it"
+            ))));
+        }
+    }
+    let seed: u64 = number("seed", &args.seed, "0 to 18446744073709551615")?;
+    let family = family(&args.family)?;
+    let frontier_mode = args.frontier;
+    let particles: usize = match &args.particles {
+        Some(t) => number("particles", t, "2 to 1000")?,
+        None if frontier_mode => 16,
+        None => 24,
+    };
+    if !(2..=1000).contains(&particles) {
+        return Err(anyhow!(InputError(format!(
+            "--particles {particles}: out of range: expected 2 to 1000"
+        ))));
+    }
+    let iterations: u64 = match &args.iterations {
+        Some(t) => number("iterations", t, "0 to 10000")?,
+        None if frontier_mode => 8,
+        None => 20,
+    };
+    if iterations > 10_000 {
+        return Err(anyhow!(InputError(format!(
+            "--iterations {iterations}: out of range: expected 0 to 10000"
+        ))));
+    }
+    let vertices: usize = match &args.vertices {
+        Some(t) => number("vertices", t, "1 to 16")?,
+        None if frontier_mode => 8,
+        None => 2,
+    };
+    if !(1..=16).contains(&vertices) {
+        return Err(anyhow!(InputError(format!(
+            "--vertices {vertices}: out of range: expected 1 to 16"
+        ))));
+    }
+    let budget = Budget {
+        particles,
+        iterations,
+        seed,
+    };
+    if frontier_mode {
+        if let Some(v) = args.case.given("lambda") {
+            return Err(anyhow!(InputError(format!(
+                "--lambda {v}: --frontier searches over lambda itself: drop it"
+            ))));
+        }
+        return run_frontier(&args, vertices, budget);
+    }
+    let Some(lambda_text) = args.case.given("lambda") else {
+        return Err(anyhow!(InputError(
+            "--lambda: design needs the load factor to design for (e.g. --lambda 4.81)".into()
+        )));
+    };
+    let base = args.case.base(CaseParams::default())?;
+    let (params, case) = args.case.case(base.clone())?;
+    // The flags that `run` needs besides the path, as the user gave them.
+    let mut lambda_text = lambda_text;
+    if let Some(p) = &args.case.preset {
+        lambda_text.push_str(&format!(" --preset {p}"));
+    }
+    for flag in [
+        "phi",
+        "psi",
+        "center",
+        "friction",
+        "nu",
+        "plane",
+        "nodes",
+        "steps",
+        "max-cycles",
+    ] {
+        if let Some(v) = args.case.given(flag) {
+            lambda_text.push_str(&format!(" --{flag} {v}"));
+        }
+    }
+    if args.case.model.run_out {
+        lambda_text.push_str(" --run-out");
+    }
+    let runner = Runner::new(&case);
+    let shape = Shape::new(
+        family,
+        vertices,
+        Region::for_material(&case.material),
+        case.cycle.center(),
+    )
+    .map_err(design_error)?;
+    let stop = ctrl_c()?;
+    let b = bar(Some(particles * (iterations as usize + 1)));
+    let report = |p: Progress| {
+        b.set_position(p.evaluations as u64);
+        b.set_message(best_message(&p));
+    };
+    let found = search(
+        &runner,
+        shape,
+        params.load_factor,
+        budget,
+        &[],
+        stop,
+        &report,
+    )
+    .map_err(design_error)?;
+    b.finish_and_clear();
+    let Some(best) = found.best else {
+        eprintln!("interrupted before any candidate was run");
+        return Ok(ExitCode::from(super::batch::INTERRUPTED));
+    };
+    // The reproduction: the path's text through `run`'s own flags.
+    let text = initial_path_text(&best.path);
+    let mut flags = args.case.clone();
+    flags.initial_path = Some(text.clone());
+    let (_, again) = flags.case(base)?;
+    let rerun = again.stepper().run_to_steady()?;
+    let reproduced = rerun.state == best.summary.state
+        && rerun.dissipation.to_bits() == best.summary.dissipation.to_bits();
+    let out = if args.json {
+        format!(
+            "{}\n",
+            serde_json::to_string(&to_json(
+                &case,
+                &params,
+                shape,
+                budget,
+                &best,
+                &rerun,
+                &text,
+                reproduced,
+                found.evaluations,
+                found.interrupted,
+            ))?
+        )
+    } else {
+        readable(
+            &case,
+            &lambda_text,
+            shape,
+            budget,
+            &best,
+            &rerun,
+            &text,
+            reproduced,
+            found.evaluations,
+            found.interrupted,
+        )
+    };
+    print_stdout(&out)?;
+    if !reproduced {
+        return Err(anyhow!(
+            "the designed path did not reproduce its state through run ({} then {}): please report this",
+            best.summary.state,
+            rerun.state
+        ));
+    }
+    if found.interrupted {
+        return Ok(ExitCode::from(super::batch::INTERRUPTED));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn to_json(
+    case: &Case,
+    params: &CaseParams,
+    shape: Shape,
+    budget: Budget,
+    best: &Candidate,
+    rerun: &Summary,
+    text: &str,
+    reproduced: bool,
+    evaluations: usize,
+    interrupted: bool,
+) -> serde_json::Value {
+    let path: Vec<[f64; 2]> = best.path.iter().map(|p| [p.x(), p.y()]).collect();
+    json!({
+        "initial_path": text,
+        "state": rerun.state,
+        "lambda": case.cycle.load_factor(),
+        "dissipation": rerun.dissipation,
+        "approach": rerun.approach,
+        "cycles": rerun.cycles,
+        "certificate": rerun.certificate,
+        "reproduced": reproduced,
+        "path": path,
+        "family": shape.family,
+        "vertices": shape.vertices,
+        "region": shape.region,
+        "seed": budget.seed,
+        "particles": budget.particles,
+        "iterations": budget.iterations,
+        "evaluations": evaluations,
+        "interrupted": interrupted,
+        "threads": rayon::current_num_threads(),
+        "version": env!("CARGO_PKG_VERSION"),
+        "parameters": {
+            "lambda": params.load_factor,
+            "phi": params.phase,
+            "psi": params.slope,
+            "center": [params.center.0, params.center.1],
+            "friction": params.friction,
+            "nu": params.poisson,
+            "plane": params.plane,
+            "nodes": params.nodes,
+            "steps": params.steps,
+            "max_cycles": params.max_cycles,
+            "safe_state": params.safe_state,
+        }
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn readable(
+    case: &Case,
+    lambda_text: &str,
+    shape: Shape,
+    budget: Budget,
+    best: &Candidate,
+    rerun: &Summary,
+    text: &str,
+    reproduced: bool,
+    evaluations: usize,
+    interrupted: bool,
+) -> String {
+    use std::fmt::Write;
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "search    {} family, K = {}, seed {}: {} candidates run by the engine ({} particles, up to {} generations, {} threads){}",
+        shape.family.as_str(),
+        shape.vertices,
+        budget.seed,
+        evaluations,
+        budget.particles,
+        budget.iterations + 1,
+        rayon::current_num_threads(),
+        if interrupted { "; stopped by Ctrl-C" } else { "" }
+    );
+    let _ = writeln!(
+        o,
+        "region    |x| <= {:.4}, |y| <= {:.4} (inside gross slip |y| = 2 pi and separation)",
+        shape.region.x_max, shape.region.y_max
+    );
+    let _ = writeln!(
+        o,
+        "case      lambda = {}  phi = {}  A = ({:.4}, {:.4})  N = {}, {} increments/cycle",
+        case.cycle.load_factor(),
+        case.cycle.phase(),
+        case.cycle.center().x(),
+        case.cycle.center().y(),
+        case.disc.nodes(),
+        case.disc.steps_per_cycle()
+    );
+    let _ = writeln!(o, "path      O");
+    for p in &best.path {
+        let _ = writeln!(o, "       -> ({:.6}, {:.6})", p.x(), p.y());
+    }
+    let _ = writeln!(
+        o,
+        "       -> A = ({:.6}, {:.6})",
+        case.cycle.center().x(),
+        case.cycle.center().y()
+    );
+    let how = match rerun.approach {
+        Approach::NoSlipCycle => "a whole cycle without slip".to_string(),
+        Approach::SafeState => "a safe state (certificate below)".to_string(),
+        Approach::Converged => "W settled to 0.01 %".to_string(),
+        Approach::Terminal => "a terminal event".to_string(),
+        Approach::Cap => "the cycle cap".to_string(),
+    };
+    let _ = writeln!(
+        o,
+        "state     {}  ({how}, cycle {})",
+        rerun.state, rerun.cycles
+    );
+    let _ = writeln!(o, "W         {:.6e}", rerun.dissipation);
+    match &rerun.certificate {
+        Some(c) => {
+            let _ = writeln!(
+                o,
+                "certificate  margin delta = {:.4e} > f C R = {:.4e} x {:.4e} = {:.4e} after cycle {}; all slip to come <= {:.4e}",
+                c.margin,
+                c.coupling,
+                c.distance,
+                c.coupling * c.distance,
+                c.cycle,
+                c.slip_bound
+            );
+        }
+        None if rerun.state == SteadyState::Shakedown => {
+            let _ = writeln!(
+                o,
+                "certificate  none needed: a whole cycle passed without slip, so every later cycle does"
+            );
+        }
+        None => {
+            let _ = writeln!(
+                o,
+                "certificate  none: no shakedown path was found at this lambda; this is the least W found"
+            );
+        }
+    }
+    let _ = writeln!(
+        o,
+        "reproduce shakedown run --lambda {lambda_text} --initial-path \"{text}\"{}",
+        if reproduced {
+            "   (rerun: same state and W)"
+        } else {
+            "   (rerun DIFFERS)"
+        }
+    );
+    let _ = writeln!(
+        o,
+        "explore   shakedown tui --lambda {lambda_text} --initial-path \"{text}\"   (the path is drawn on the load plane, the slip built step by step)"
+    );
+    o
+}
+
+/// Refuse a bad `--out` before any work; the lock lives as long as the
+/// guard.
+fn prepare_out(args: &DesignArgs) -> Result<Option<OutputLock>> {
+    let Some(out) = &args.out else {
+        return Ok(None);
+    };
+    if let Some(preset) = &args.case.preset {
+        refuse_input_as_output("--out", out, &[("--preset file", Path::new(preset))])?;
+    }
+    if !args.force && is_nonempty_file(out) {
+        return Err(anyhow!(InputError(format!(
+            "--out {}: it exists and is not empty: add --force to replace it",
+            out.display()
+        ))));
+    }
+    check_folder(out).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--out {}: cannot create it: {e}: expected a writable file path",
+            out.display()
+        )))
+    })?;
+    lock_file_output("--out", out)
+}
+
+/// The frontier's table as text (metadata header, references, rows) and
+/// whether Ctrl-C cut it short.
+pub fn frontier_table(
+    case: &Case,
+    vertices: usize,
+    budget: Budget,
+    families: &[Family],
+) -> Result<(String, bool)> {
+    let runner = Runner::new(case);
+    let stop = ctrl_c()?;
+    let b = bar(None);
+    b.set_message("the 25 paper transients and lambda_2");
+    let refs = references(&runner).map_err(design_error)?;
+    let report = |p: Progress| {
+        b.inc(1);
+        b.set_message(best_message(&p));
+    };
+    let rows = Mutex::new(Vec::<FrontierRow>::new());
+    for &f in families {
+        let mut done = |r: &FrontierRow| {
+            b.println(frontier_line(r).trim_end());
+            rows.lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(r.clone());
+        };
+        frontier(
+            &runner, f, vertices, &refs, budget, stop, &report, &mut done,
+        )
+        .map_err(design_error)?;
+    }
+    b.finish_and_clear();
+    let mut meta = case_metadata("design-frontier", case, "designed");
+    meta.set("lambda", "searched");
+    meta.push("region", {
+        let r = Region::for_material(&case.material);
+        format!("|x| <= {}, |y| <= {}", r.x_max, r.y_max)
+    });
+    meta.push("seed", budget.seed)
+        .push("particles", budget.particles)
+        .push("iterations", budget.iterations)
+        .push("vertices", vertices)
+        .push("threads", rayon::current_num_threads());
+    meta.push("best_of_25", &refs.best_name);
+    let rows = rows.into_inner().unwrap_or_else(|e| e.into_inner());
+    Ok((
+        format!("{}{}", meta.render(), frontier_csv(&refs, &rows)),
+        stop.is_draining(),
+    ))
+}
+
+fn run_frontier(args: &DesignArgs, vertices: usize, budget: Budget) -> Result<ExitCode> {
+    let base = args.case.base(CaseParams::default())?;
+    let (_, case) = args.case.case(base)?;
+    let _lock = prepare_out(args)?;
+    let (csv, interrupted) =
+        frontier_table(&case, vertices, budget, &[Family::Free, Family::Decaying])?;
+    print_stdout(&csv)?;
+    if let Some(out) = &args.out {
+        write_file("--out", out, csv.as_bytes())?;
+    }
+    if interrupted {
+        eprintln!("interrupted: the rows finished so far are written");
+        return Ok(ExitCode::from(super::batch::INTERRUPTED));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `figure design`: the frontier table (from `--from FILE.csv`, or made now
+/// with `K <= 4` and the frontier's default budget) drawn as design.svg and
+/// design.png.
+pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
+    use shakedown::figure::design::DesignPlot;
+    use shakedown::io::csv::Metadata;
+    use shakedown::io::design::read_frontier_csv;
+    use shakedown::io::parse::parse_point;
+    let dir = match (&args.out, &args.from) {
+        (Some(d), _) => d.clone(),
+        (None, Some(f)) => f
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|| PathBuf::from(".")),
+        (None, None) => {
+            return Err(anyhow!(InputError(
+                "figure: --out DIR is needed (or --from FILE.csv to redraw)".into()
+            )))
+        }
+    };
+    std::fs::create_dir_all(&dir).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--out {}: cannot create it: {e}",
+            dir.display()
+        )))
+    })?;
+    let (csv_path, svg, png) = (
+        dir.join("design.csv"),
+        dir.join("design.svg"),
+        dir.join("design.png"),
+    );
+    let mut files = vec![&svg, &png];
+    if args.from.is_none() {
+        files.push(&csv_path);
+    }
+    if !args.force {
+        if let Some(f) = files.iter().find(|f| is_nonempty_file(f)) {
+            return Err(anyhow!(InputError(format!(
+                "--out {}: {} exists: add --force to replace it",
+                dir.display(),
+                f.display()
+            ))));
+        }
+    }
+    let text = match &args.from {
+        Some(f) => std::fs::read_to_string(f).map_err(|e| {
+            anyhow!(InputError(format!(
+                "--from {}: cannot read it: {e}",
+                f.display()
+            )))
+        })?,
+        None => {
+            let base = args.model.apply(CaseParams::default())?;
+            let case = Case::from_params(&base).map_err(|e| anyhow!(InputError(e.to_string())))?;
+            let (csv, interrupted) = frontier_table(
+                &case,
+                4,
+                Budget {
+                    particles: 16,
+                    iterations: 8,
+                    seed: 1,
+                },
+                &[Family::Free, Family::Decaying],
+            )?;
+            write_file("--out", &csv_path, csv.as_bytes())?;
+            if interrupted {
+                eprintln!(
+                    "interrupted: the rows finished so far are in {}; no plot was drawn",
+                    csv_path.display()
+                );
+                return Ok(ExitCode::from(super::batch::INTERRUPTED));
+            }
+            csv
+        }
+    };
+    let from = args
+        .from
+        .as_deref()
+        .unwrap_or(&csv_path)
+        .display()
+        .to_string();
+    let bad = |e: String| anyhow!(InputError(format!("--from {from}: {e}")));
+    let rows = read_frontier_csv(&text).map_err(bad)?;
+    let meta = Metadata::parse(&text);
+    let center = meta
+        .get("center")
+        .and_then(|c| parse_point(c).ok())
+        .ok_or_else(|| bad("its header has no 'center'".into()))?;
+    let slope = meta
+        .get("psi")
+        .and_then(|v| v.parse::<f64>().ok())
+        .ok_or_else(|| bad("its header has no 'psi'".into()))?;
+    let plot = DesignPlot {
+        rows: &rows,
+        center: shakedown::LoadPoint::new(center.0, center.1),
+        slope,
+        title: format!(
+            "Designed transients: N = {}, {} increments per cycle, φ = {}",
+            meta.get("nodes").unwrap_or("?"),
+            meta.get("steps").unwrap_or("?"),
+            meta.get("phi").unwrap_or("?")
+        ),
+    };
+    shakedown::figure::write_svg_png(&plot, &svg, &png).map_err(|e| anyhow!(e))?;
+    eprintln!("wrote {} and {}", svg.display(), png.display());
+    Ok(ExitCode::SUCCESS)
+}
