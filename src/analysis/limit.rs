@@ -162,7 +162,7 @@ pub fn shakedown_limit(
     let ops = Arc::new(Operators::new(n));
     let contact = Contact::new(*material, Arc::clone(&ops));
     let lp = Programme::new(&contact, &ops, center, times.iter().map(|&t| unit.at(t)));
-    let (slip, load_factor, iterations) = lp.solve_by_row_generation(&lp.reduced_rows())?;
+    let (slip, load_factor, iterations) = lp.solve(&lp.reduced_rows())?;
     if load_factor >= LAMBDA_CAP * (1.0 - 1e-6) {
         return Err(LimitError::Unbounded);
     }
@@ -222,10 +222,6 @@ pub fn sample_convergence(
     rows.push((samples, limit.load_factor, limit.lower_bound));
     Ok(rows)
 }
-
-/// A row that the optimum of a subset violates by more than this (in units
-/// of `p0`) joins the programme.
-const CUT_TOLERANCE: f64 = 1e-10;
 
 /// One row of the programme: the friction inequality
 /// `s q_j - f p_j <= 0` at node `j` with sign `s` (`sign` 0 for `+1`, 1 for
@@ -431,68 +427,6 @@ impl<'a> Programme<'a> {
         Ok((slip, load_factor, sol.iterations))
     }
 
-    /// The optimum on `rows`, found by row generation: solve on the rows
-    /// that fail first as `lambda` grows from 0 with no slip, add the rows
-    /// the optimum violates, and repeat. An optimum that violates none of
-    /// `rows` is the optimum over all of them (a subset's optimum bounds
-    /// the whole's from above). The programme's dense columns make its
-    /// cost grow as `N k^2` in the rows `k` it holds, so starting small
-    /// pays (model.md section 7.3).
-    fn solve_by_row_generation(&self, rows: &[Row]) -> Result<(Vec<f64>, f64, u32), LimitError> {
-        let f = self.friction;
-        let slack =
-            |row: &Row| f * self.p_center[row.node] - SIGNS[row.sign] * self.q_center[row.node];
-        // The load factor at which each row fails without slip.
-        let mut order: Vec<(f64, usize)> = rows
-            .iter()
-            .enumerate()
-            .map(|(r, row)| {
-                let at = if row.rate > 0.0 {
-                    slack(row) / row.rate
-                } else {
-                    f64::INFINITY
-                };
-                (at, r)
-            })
-            .collect();
-        order.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut active = vec![false; rows.len()];
-        for &(_, r) in order.iter().take((rows.len() / 4).max(8)) {
-            active[r] = true;
-        }
-        let mut iterations = 0;
-        loop {
-            let subset: Vec<Row> = rows
-                .iter()
-                .zip(&active)
-                .filter(|(_, a)| **a)
-                .map(|(r, _)| *r)
-                .collect();
-            let (slip, load_factor, its) = self.solve(&subset)?;
-            iterations += its;
-            let hg = self.ops.residual_pressure(&slip);
-            let dg = self.ops.residual_shear(&slip);
-            let mut added = 0;
-            for (r, row) in rows.iter().enumerate() {
-                if active[r] {
-                    continue;
-                }
-                let j = row.node;
-                let s = SIGNS[row.sign];
-                let v = s * (self.q_center[j] + dg[j]) - f * (self.p_center[j] + hg[j])
-                    + load_factor * row.rate;
-                if v > CUT_TOLERANCE {
-                    active[r] = true;
-                    added += 1;
-                }
-            }
-            // Each round adds a row, so this ends, at the latest with all.
-            if added == 0 {
-                return Ok((slip, load_factor, iterations));
-            }
-        }
-    }
-
     /// The largest `|q| - f p` over the nodes and load points at
     /// `lambda` with the locked-in slip `g`.
     fn max_violation(&self, slip: &[f64], load_factor: f64) -> f64 {
@@ -622,9 +556,7 @@ mod tests {
             let contact = Contact::new(material, Arc::clone(&ops));
             let lp = Programme::new(&contact, &ops, center, times.iter().map(|&t| unit.at(t)));
             let (_, full, _) = lp.solve(&lp.all_rows()).unwrap();
-            let (_, reduced_all, _) = lp.solve(&lp.reduced_rows()).unwrap();
-            assert!((full - reduced_all).abs() <= 1e-9 * full);
-            let (slip, reduced, _) = lp.solve_by_row_generation(&lp.reduced_rows()).unwrap();
+            let (slip, reduced, _) = lp.solve(&lp.reduced_rows()).unwrap();
             assert!(
                 (full - reduced).abs() <= 1e-9 * full,
                 "N = {nodes}, phi = {phase}: {full} against {reduced}"

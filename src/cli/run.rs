@@ -23,6 +23,14 @@ pub struct RunArgs {
     /// FILE` writes it; its node count must be --nodes).
     #[arg(long, value_name = "FILE")]
     pub initial_slip: Option<String>,
+    /// Write the fretting profile of the verdict cycle here as CSV: per
+    /// node theta, p and q extremes, slip amplitude and path, dissipation,
+    /// Ruiz parameter and wear (model.md section 4.1).
+    #[arg(long, value_name = "FILE")]
+    pub profile: Option<std::path::PathBuf>,
+    /// Replace an existing, non-empty --profile FILE.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// Run `shakedown run`.
@@ -38,8 +46,32 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
         case.initial = super::initial_slip(path, params.nodes)?;
         params.initial = case.initial.name();
     }
+    if let Some(out) = &args.profile {
+        if !args.force && shakedown::io::output::is_nonempty_file(out) {
+            return Err(anyhow::anyhow!(super::InputError(format!(
+                "--profile {}: it exists and is not empty: add --force to replace it",
+                out.display()
+            ))));
+        }
+    }
     let mut stepper = case.stepper();
-    let summary = stepper.run_to_steady()?;
+    let summary = match &args.profile {
+        None => stepper.run_to_steady()?,
+        Some(out) => {
+            let (summary, profile) = shakedown::analysis::profile::profile_run(&mut stepper)?;
+            let Some(profile) = profile else {
+                return Err(anyhow::anyhow!(super::InputError(format!(
+                    "--profile {}: the run ended ({}) before it completed a cycle: there is no cycle to profile",
+                    out.display(),
+                    summary.state
+                ))));
+            };
+            let csv =
+                shakedown::io::profile::profile_csv(&case, &params.initial, &summary, &profile);
+            super::batch::write_file("--profile", out, csv.as_bytes())?;
+            summary
+        }
+    };
     let history: Vec<f64> = stepper.history().iter().map(|r| r.dissipation).collect();
     let text = if args.json {
         format!(
