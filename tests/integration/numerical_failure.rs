@@ -1,7 +1,8 @@
 //! Numerical failure is explained, and nothing hangs: an increment whose
 //! active set does not settle is a typed error naming the load point; a
 //! sweep carries on. The hard case below, on which the finite-step
-//! active-set iteration fails, is resolved by the exact increment.
+//! active-set iteration fails, is resolved by the exact increment, also
+//! in a sweep.
 
 use std::sync::Arc;
 
@@ -79,8 +80,10 @@ fn bisection_resolves_the_same_increment() {
     assert!(run_transient(StepOptions::default()).is_ok());
 }
 
+/// A sweep with the path on which the finite step fails: every row runs
+/// through (the exact increment resolves it) and the sweep completes.
 #[test]
-fn a_sweep_records_the_failure_and_carries_on() {
+fn a_sweep_over_the_hard_path_runs_every_row_through() {
     let (m, disc, path) = hard_case();
     let end = *path.last().unwrap();
     let spec = SweepSpec::new(

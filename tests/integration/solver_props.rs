@@ -348,3 +348,19 @@ proptest! {
         }
     }
 }
+
+/// The library sets no process-wide state: setting up and running a case
+/// leaves faer's global parallelism as the caller set it (every faer call
+/// of the engine passes its own, sequential, parallelism).
+#[test]
+fn a_run_leaves_faers_global_parallelism_alone() {
+    let mine = faer::Par::rayon(2);
+    faer::set_global_parallelism(mine);
+    let disc = Discretisation::new(32, 64).unwrap();
+    let ops = shakedown::stepping::operators(&disc);
+    let mut contact = Contact::new(Material::paper(), ops);
+    for i in 1..=20 {
+        let _ = contact.advance(LoadPoint::new(0.05 * i as f64, 0.35 * i as f64));
+    }
+    assert_eq!(faer::get_global_parallelism(), mine);
+}
