@@ -519,8 +519,8 @@ fn one_line(e: &anyhow::Error) -> String {
     shorten_numbers(&shakedown::io::read::escape_text(&text, 2000))
 }
 
-/// Numbers written out with more than 20 digits (`1e300` printed by
-/// `{}`) in exponent form.
+/// Numbers written out with more than 30 digits (`1e300` printed by
+/// `{}`) in exponent form; any shorter number is kept as written.
 fn shorten_numbers(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     let mut rest = text;
@@ -533,7 +533,9 @@ fn shorten_numbers(text: &str) -> String {
         let run = &tail[..len];
         let digits = run.chars().filter(char::is_ascii_digit).count();
         match run.parse::<f64>() {
-            Ok(v) if digits > 20 => out.push_str(&format!("{v:e}")),
+            // Only numbers no shortest form needs (`1e-320` written out):
+            // a row's `-0.0000033333333333333335` is quoted as it is.
+            Ok(v) if digits > 30 => out.push_str(&format!("{v:e}")),
             _ => out.push_str(run),
         }
         rest = &tail[len..];

@@ -20,7 +20,7 @@ pub enum ParseError {
     )]
     Range(String),
     /// A list or range with more than [`MAX_VALUES`] values.
-    #[error("range '{text}' has {count} values: at most {max} are allowed")]
+    #[error("range '{text}' has {} values: at most {max} are allowed", shown_count(*count))]
     TooMany {
         /// The list or range as typed.
         text: String,
@@ -40,6 +40,16 @@ fn number(text: &str) -> Option<f64> {
         return None;
     }
     t.parse::<f64>().ok().filter(|v| v.is_finite())
+}
+
+/// A count for a message: exact when it is one a person reads, "more
+/// than 10^12" for an absurd range (not 18446744073709551615).
+fn shown_count(count: usize) -> String {
+    if count > 1_000_000_000_000 {
+        "more than 10^12".into()
+    } else {
+        count.to_string()
+    }
 }
 
 /// A plain finite number.

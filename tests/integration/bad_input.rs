@@ -1013,7 +1013,7 @@ fn an_unknown_flag_points_to_the_help_of_its_subcommand() {
 
 /// Every file of `dir` (recursively one level is enough here) with its
 /// bytes, or the target of a symlink.
-fn snapshot(dir: &std::path::Path) -> Vec<(String, Vec<u8>)> {
+fn files_of(dir: &std::path::Path) -> Vec<(String, Vec<u8>)> {
     let mut out: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| {
@@ -1038,7 +1038,7 @@ fn snapshot(dir: &std::path::Path) -> Vec<(String, Vec<u8>)> {
 /// [`rejected`], run in `dir`, and nothing in `dir` changed.
 #[track_caller]
 fn refused_in(dir: &std::path::Path, args: &[&str], names: &[&str]) -> String {
-    let before = snapshot(dir);
+    let before = files_of(dir);
     let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
         .args(args)
         .current_dir(dir)
@@ -1057,7 +1057,7 @@ fn refused_in(dir: &std::path::Path, args: &[&str], names: &[&str]) -> String {
             lines[0]
         );
     }
-    assert_eq!(snapshot(dir), before, "{args:?} changed a file");
+    assert_eq!(files_of(dir), before, "{args:?} changed a file");
     lines[0].to_string()
 }
 
