@@ -3,6 +3,7 @@
 //! `lambda_3`.
 
 pub mod case;
+pub mod episodes;
 pub mod limit;
 pub mod limit_curve;
 mod meet;

@@ -13,6 +13,7 @@ macro_rules! outln {
 }
 
 pub mod batch;
+mod events;
 mod figure;
 mod limit;
 mod merge;
@@ -59,6 +60,8 @@ enum Command {
     Figure(figure::FigureArgs),
     /// The shakedown limit lambda_2 by linear programming, and its optimal slip.
     Limit(limit::LimitArgs),
+    /// Every event of one run (advancing stick, slip start, zone changes, ...) as a labelled CSV.
+    Events(events::EventsArgs),
 }
 
 /// Flags of the model and its discretisation, shared by every command.
@@ -468,6 +471,7 @@ pub fn main() -> ExitCode {
         Some(Command::Presets) => presets::presets(),
         Some(Command::Figure(a)) => figure::figure(a),
         Some(Command::Limit(a)) => limit::limit(a),
+        Some(Command::Events(a)) => events::events(a),
     };
     match result {
         Ok(code) => code,

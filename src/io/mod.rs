@@ -5,6 +5,7 @@
 
 pub mod batch;
 pub mod csv;
+pub mod events;
 pub mod output;
 pub mod parse;
 pub mod preset;

@@ -6,6 +6,7 @@ mod bad_input;
 mod batch_cli;
 mod common;
 mod engine;
+mod events;
 mod figures;
 mod history_trim;
 mod kernels;
