@@ -23,6 +23,7 @@ macro_rules! errln {
 
 pub mod batch;
 mod design;
+mod events;
 mod figure;
 mod limit;
 mod merge;
@@ -71,6 +72,8 @@ enum Command {
     Limit(limit::LimitArgs),
     /// Search transients O -> P1 -> ... -> PK -> A whose steady cycle shakes down at --lambda (or, with --frontier, the highest lambda at which one found does).
     Design(design::DesignArgs),
+    /// Every event of one run (advancing stick, slip start, zone changes, ...) as a labelled CSV.
+    Events(events::EventsArgs),
 }
 
 /// Flags of the model and its discretisation, shared by every command.
@@ -491,6 +494,7 @@ pub fn main() -> ExitCode {
         Some(Command::Figure(a)) => figure::figure(a),
         Some(Command::Limit(a)) => limit::limit(a),
         Some(Command::Design(a)) => design::design(a),
+        Some(Command::Events(a)) => events::events(a),
     };
     match result {
         Ok(code) => code,

@@ -202,9 +202,9 @@ impl DissipationPlot<'_> {
                 .any(|p| self.diamond(p) && (p.2 != Mark::Shakedown) == slipping)
             {
                 let label = if slipping {
-                    "from the optimal slip of the λ₂ programme: slips"
+                    "optimal slip (λ₂ programme): slips"
                 } else {
-                    "from the optimal slip of the λ₂ programme: shakedown"
+                    "optimal slip (λ₂ programme): shakedown"
                 };
                 key.push(Sample::Optimal(slipping), label);
             }
@@ -233,7 +233,7 @@ impl DissipationPlot<'_> {
         if let Some(l3) = self.lambda_3_drawn() {
             key.push(
                 Sample::Line(Pattern::Dotted, GREY, 2.0),
-                format!("λ₃ = {l3}: from here every transient ratchets, same W"),
+                format!("λ₃ = {l3}: every transient ratchets from here"),
             );
         }
         key

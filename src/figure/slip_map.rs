@@ -159,12 +159,18 @@ fn runs(map: &SlipMap, directions: &[SlipDirection]) -> Vec<Run> {
 }
 
 /// The slip zones as smooth bands: quadrilaterals joining each zone's
-/// edges at the middle of one increment to those of the zone it overlaps
-/// in the next, and half-increment caps where a zone appears or vanishes.
+/// edges at the middle of one increment to those of the zone it continues
+/// as in the next, and half-increment caps where a zone appears or vanishes.
 /// `rows` are `(t0, t1, runs)` in drawn time (units of pi), in order.
 fn bands(rows: &[(f64, f64, Vec<Run>)]) -> Vec<(Vec<(f64, f64)>, SlipDirection)> {
     let mut out = Vec::new();
-    let overlaps = |a: &Run, b: &Run| a.2 == b.2 && a.0 <= b.1 + 1e-9 && b.0 <= a.1 + 1e-9;
+    // A zone moving faster than its own width per increment does not
+    // overlap itself in the next row: it continues there when the two are
+    // within the wider one's width.
+    let overlaps = |a: &Run, b: &Run| {
+        let tol = (a.1 - a.0).max(b.1 - b.0) + 1e-9;
+        a.2 == b.2 && a.0 <= b.1 + tol && b.0 <= a.1 + tol
+    };
     let rect = |lo: f64, hi: f64, t0: f64, t1: f64| vec![(lo, t0), (hi, t0), (hi, t1), (lo, t1)];
     for (k, (t0, t1, runs)) in rows.iter().enumerate() {
         let mid = 0.5 * (t0 + t1);

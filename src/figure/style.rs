@@ -545,7 +545,7 @@ macro_rules! optimal_glyph {
     ($slipping:expr, $at:expr, $pen:expr) => {{
         let pen: &$crate::figure::style::Pen = $pen;
         let colour = $crate::figure::style::OPTIMAL;
-        let d = pen.mark(2.3);
+        let d = pen.mark(1.9);
         let c = if $slipping { pen.mark(0.35) } else { 0 };
         let edge = colour.stroke_width(pen.upx(pen.style.line_pt()));
         EmptyElement::at($at)
@@ -598,10 +598,10 @@ impl Key {
     }
 
     /// A label's width in pixels: estimated from its length (DejaVu
-    /// Sans averages about 0.55 em a character), so that the SVG and the
+    /// Sans averages about 0.5 em a character), so that the SVG and the
     /// PNG lay the key out alike and its height is known before drawing.
     fn label_w(pen: &Pen, label: &str) -> i32 {
-        pen.px(pen.text_pt() * 0.56 * label.chars().count() as f64)
+        pen.px(pen.text_pt() * 0.5 * label.chars().count() as f64)
     }
 
     /// Columns, rows and column width of the key in `width` pixels.
@@ -775,7 +775,7 @@ impl LinearAxis {
         let step = [1.0, 2.0, 2.5, 5.0, 10.0]
             .iter()
             .map(|m| m * mag)
-            .find(|s| max / s <= 6.0)
+            .find(|s| max / s <= 8.0)
             .unwrap_or(10.0 * mag);
         let n = (max / step * (1.0 + 1e-9)).ceil().max(1.0);
         // A point exactly at the last tick would sit on the frame: leave

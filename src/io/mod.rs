@@ -7,6 +7,7 @@ pub mod batch;
 pub mod csv;
 pub mod design;
 pub mod hash;
+pub mod events;
 pub mod output;
 pub mod parse;
 pub mod preset;

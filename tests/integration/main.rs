@@ -8,6 +8,7 @@ mod common;
 mod design;
 mod docs_commands;
 mod engine;
+mod events;
 mod figures;
 mod history_trim;
 mod kernels;
