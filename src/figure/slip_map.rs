@@ -128,7 +128,9 @@ impl Drawing for SlipMapPlot<'_> {
         let (o0, o1) = (origin / PI, origin / PI + 2.0);
         let title = format!(
             "{}: {}, dissipation {:.4e} per cycle",
-            self.title, map.summary.state, map.summary.dissipation
+            self.title,
+            map.outcome.state(),
+            map.outcome.dissipation
         );
         let root = root.titled(&title, font(20.0)).map_err(s)?;
         let (key, root) = root.split_vertically(34);

@@ -10,7 +10,7 @@ use std::f64::consts::PI;
 
 use super::format::{format_sci, node_theta, plural};
 use crate::contact::SlipDirection;
-use crate::stepping::{slip_zones, Event, ZoneChange};
+use crate::stepping::{slip_zones, Event, GrossSlip, Separation, ZoneChange};
 
 /// The kinds of events the log lists and the filters choose from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -249,12 +249,12 @@ pub fn entries(events: &[Event], at: At, directions: &[SlipDirection]) -> Vec<Lo
                 None,
                 format!(
                     "classified: {} after {} cycles ({})",
-                    s.state.as_str(),
+                    s.state().as_str(),
                     s.cycles,
-                    s.approach
+                    s.approach()
                 ),
             )),
-            Event::GrossSlip { load, time } => {
+            Event::GrossSlip(GrossSlip { load, time }) => {
                 let mut e = entry(
                     EventKind::State,
                     0,
@@ -269,7 +269,7 @@ pub fn entries(events: &[Event], at: At, directions: &[SlipDirection]) -> Vec<Lo
                 e.time = time.or(e.time);
                 out.push(e);
             }
-            Event::Separation { load, time, theta } => {
+            Event::Separation(Separation { load, time, theta }) => {
                 let mut e = entry(
                     EventKind::State,
                     0,

@@ -299,7 +299,7 @@ fn just_below_the_torque_limit_is_not_gross_slip() {
     );
     let summary = s.run_to_steady().unwrap();
     assert_eq!(summary.state, SteadyState::GrossSlip);
-    let load = summary.terminal_load.unwrap();
+    let load = summary.terminal_load().unwrap();
     assert!((load.y() - 2.0 * PI).abs() < 1e-14, "{load}");
 }
 
@@ -318,8 +318,8 @@ fn terminal_time_and_load_are_the_same_instant() {
     let summary = s.run_to_steady().unwrap();
     assert_eq!(summary.state, SteadyState::Separation);
     let (t, load) = (
-        summary.terminal_time.unwrap(),
-        summary.terminal_load.unwrap(),
+        summary.terminal_time().unwrap(),
+        summary.terminal_load().unwrap(),
     );
     // The load point lies on the chord of the increment containing t, at
     // the fraction of t within it.
@@ -453,7 +453,7 @@ fn a_stepper_paused_at_events_reaches_the_same_steady_state() {
             }
         }
         (
-            s.summary().cloned().unwrap(),
+            s.outcome().cloned().unwrap(),
             partial,
             whole,
             s.increments(),
@@ -505,7 +505,7 @@ fn a_reused_report_says_what_a_fresh_one_says() {
         }));
         steps += 1;
     }
-    assert_eq!(reused.summary(), fresh.summary());
+    assert_eq!(reused.outcome(), fresh.outcome());
     // The comparison covered reports whose events carry node lists.
     assert!(with_nodes > 10, "{with_nodes} steps with slip events");
 }
@@ -519,7 +519,7 @@ fn stepped(
     steps: usize,
     straight: bool,
 ) -> (
-    shakedown::Summary,
+    shakedown::Outcome,
     usize,
     Vec<(bool, Vec<usize>, Option<f64>, LoadPoint)>,
     usize,
@@ -551,7 +551,7 @@ fn stepped(
         Control::Continue
     })
     .unwrap();
-    (s.summary().cloned().unwrap(), s.increments(), events, taken)
+    (s.outcome().cloned().unwrap(), s.increments(), events, taken)
 }
 
 /// The same events, in the same order, at the same instant and load point

@@ -13,7 +13,7 @@ use shakedown::analysis::sweep::SweepSpec;
 use shakedown::model::path::Initial;
 use shakedown::model::{Discretisation, LoadPoint, Material};
 use shakedown::stepping::steady::SteadyState;
-use shakedown::stepping::{StepOptions, Summary};
+use shakedown::stepping::{Outcome, StepOptions};
 
 const NODES: usize = 64;
 const STEPS: usize = 200;
@@ -30,7 +30,7 @@ fn limit(phase: f64) -> Limit {
     .unwrap()
 }
 
-fn run_optimal(lambda: f64, phase: f64) -> Summary {
+fn run_optimal(lambda: f64, phase: f64) -> Outcome {
     let params = CaseParams {
         load_factor: lambda,
         phase,

@@ -80,7 +80,7 @@ fn bisection_resolves_the_same_increment() {
 }
 
 #[test]
-fn a_sweep_records_the_failure_and_carries_on() {
+fn a_sweep_runs_the_path_the_finite_step_solver_failed_on_with_no_failed_row() {
     let (m, disc, path) = hard_case();
     let end = *path.last().unwrap();
     let spec = SweepSpec::new(

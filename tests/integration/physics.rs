@@ -17,7 +17,7 @@ fn run(
     initial: &Initial,
     nodes: usize,
     steps: usize,
-) -> shakedown::Summary {
+) -> shakedown::Outcome {
     let mut s = Stepper::new(
         Material::paper(),
         Discretisation::new(nodes, steps).unwrap(),
@@ -87,7 +87,7 @@ fn gross_slip_between_7_36_and_7_46() {
 fn gross_slip_reports_a_load_point_on_the_torque_limit() {
     let s = run(7.5, 0.0, &Initial::Direct, 128, 400);
     assert_eq!(s.state, SteadyState::GrossSlip);
-    let load = s.terminal_load.expect("gross slip reports where");
+    let load = s.terminal_load().expect("gross slip reports where");
     // The friction torque cannot exceed 2 pi f p0 a^2: |y| just above 2 pi.
     assert!(
         load.y().abs() > 2.0 * PI && load.y().abs() < 2.0 * PI + 0.2,
