@@ -263,7 +263,7 @@ fn straight_cycles_do_not_depend_on_the_increment_count() {
         s.run_to_steady().unwrap()
     };
     let (a, b) = (run(100), run(700));
-    assert_eq!(a.state, b.state);
+    assert_eq!(a.state(), b.state());
     assert!(
         (a.dissipation - b.dissipation).abs() < 1e-9 * a.dissipation,
         "{} vs {}",
@@ -288,7 +288,7 @@ fn just_below_the_torque_limit_is_not_gross_slip() {
         StepOptions::default(),
     );
     let summary = s.run_to_steady().unwrap();
-    assert_ne!(summary.state, SteadyState::GrossSlip, "{summary:?}");
+    assert_ne!(summary.state(), SteadyState::GrossSlip, "{summary:?}");
     // Just above it, gross slip at |y| = 2 pi.
     let mut s = Stepper::new(
         Material::paper(),
@@ -298,7 +298,7 @@ fn just_below_the_torque_limit_is_not_gross_slip() {
         StepOptions::default(),
     );
     let summary = s.run_to_steady().unwrap();
-    assert_eq!(summary.state, SteadyState::GrossSlip);
+    assert_eq!(summary.state(), SteadyState::GrossSlip);
     let load = summary.terminal_load().unwrap();
     assert!((load.y() - 2.0 * PI).abs() < 1e-14, "{load}");
 }
@@ -316,7 +316,7 @@ fn terminal_time_and_load_are_the_same_instant() {
         StepOptions::default(),
     );
     let summary = s.run_to_steady().unwrap();
-    assert_eq!(summary.state, SteadyState::Separation);
+    assert_eq!(summary.state(), SteadyState::Separation);
     let (t, load) = (
         summary.terminal_time().unwrap(),
         summary.terminal_load().unwrap(),
@@ -464,7 +464,7 @@ fn a_stepper_paused_at_events_reaches_the_same_steady_state() {
     assert_eq!(p0, 0);
     assert!(p1 > 0, "no pause at all");
     assert_eq!((w0, i0), (w1, i1), "the same increments");
-    assert_eq!(plain.state, paused.state);
+    assert_eq!(plain.state(), paused.state());
     assert_eq!(plain.cycles, paused.cycles);
     let rel = (plain.dissipation - paused.dissipation).abs() / plain.dissipation;
     assert!(
@@ -578,8 +578,8 @@ fn a_straight_run_of_increments_taken_at_once_meets_the_same_events() {
     let cycle = Cycle::paper(5.5, 0.0).unwrap();
     let (one, i1, e1, steps1) = stepped(cycle, 200, false);
     let (run, i2, e2, steps2) = stepped(cycle, 200, true);
-    assert_eq!(one.state, SteadyState::CyclicSlip);
-    assert_eq!((one.state, one.cycles), (run.state, run.cycles));
+    assert_eq!(one.state(), SteadyState::CyclicSlip);
+    assert_eq!((one.state(), one.cycles), (run.state(), run.cycles));
     assert_eq!(i1, i2, "the same increments");
     let rel = (one.dissipation - run.dissipation).abs() / one.dissipation;
     assert!(rel < 1e-9, "W {} vs {}", one.dissipation, run.dissipation);
@@ -597,7 +597,7 @@ fn only_straight_runs_are_taken_at_once() {
     let cycle = Cycle::paper(5.5, 0.0).unwrap();
     let (one, i1, e1, _) = stepped(cycle, 201, false);
     let (run, i2, e2, steps2) = stepped(cycle, 201, true);
-    assert_eq!((one.state, one.cycles, i1), (run.state, run.cycles, i2));
+    assert_eq!((one.state(), one.cycles, i1), (run.state(), run.cycles, i2));
     same_events(&e1, &e2);
     assert!(steps2 <= 4 * run.cycles + 10, "{steps2} steps");
     // An ellipse (phi = pi/2) has no two chords in line: one increment a
@@ -605,7 +605,7 @@ fn only_straight_runs_are_taken_at_once() {
     let cycle = Cycle::paper(5.5, 0.5 * PI).unwrap();
     let (one, i1, e1, steps1) = stepped(cycle, 200, false);
     let (run, i2, e2, steps2) = stepped(cycle, 200, true);
-    assert_eq!((one.state, one.cycles, i1), (run.state, run.cycles, i2));
+    assert_eq!((one.state(), one.cycles, i1), (run.state(), run.cycles, i2));
     let rel = (one.dissipation - run.dissipation).abs() / one.dissipation;
     assert!(rel < 1e-9, "W {} vs {}", one.dissipation, run.dissipation);
     same_events(&e1, &e2);

@@ -325,11 +325,11 @@ proptest! {
             Some(_) => {
                 let summary = summary.expect("an escape ends the run");
                 prop_assert!(
-                    matches!(summary.state, SteadyState::GrossSlip | SteadyState::Separation),
+                    matches!(summary.state(), SteadyState::GrossSlip | SteadyState::Separation),
                     "{:?}", summary
                 );
                 prop_assert!(summary.terminal_load().is_some());
-                if summary.state == SteadyState::GrossSlip {
+                if summary.state() == SteadyState::GrossSlip {
                     let y = summary.terminal_load().unwrap().y().abs();
                     prop_assert!(y > 2.0 * PI * (1.0 - 1e-9), "gross slip at |y| = {y}");
                 }
@@ -338,7 +338,7 @@ proptest! {
                 if s.is_finished() {
                     // Only the separation a locked-in slip can bring forward.
                     let summary = summary.expect("finished");
-                    prop_assert_eq!(summary.state, SteadyState::Separation, "{:?}", summary);
+                    prop_assert_eq!(summary.state(), SteadyState::Separation, "{:?}", summary);
                 } else {
                     // The transient ended where it was meant to.
                     prop_assert!(!s.history().is_empty() || s.outcome().is_some());
