@@ -1,43 +1,29 @@
-//! One case of the paper: point B of Fig. 3 (`lambda = 7`, `phi = 0`, the
-//! direct path `OA`), run to its steady state, with every event of the
-//! first cycles printed as it happens.
+//! One case of the paper, built by name and run to its steady state:
+//! Fig. 3's cycle at `lambda = 5.5` (give another on the command line).
 //!
 //! `cargo run --release --example one_case [LAMBDA]`
 
-use shakedown::analysis::case::{Case, CaseParams};
-use shakedown::stepping::{drive, Control, Goal};
-use shakedown::{Event, StepReport, Stepper};
+use shakedown::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let load_factor = match std::env::args().nth(1) {
         Some(text) => text.parse()?,
-        None => 7.0,
+        None => 5.5,
     };
-    let params = CaseParams {
-        load_factor,
-        ..CaseParams::default()
-    };
-    let case = Case::from_params(&params)?;
-    let mut stepper = case.stepper();
+    let case = Case::builder()
+        .load_factor(load_factor)
+        .initial(Initial::Direct)
+        .build()?;
+    let outcome = case.run()?;
 
-    // An observer: print what happens during the transient and the first
-    // two cycles, then watch quietly.
-    let mut printed = 0;
-    let mut observer = |s: &Stepper, report: &StepReport| {
-        for event in &report.events {
-            if printed < 40 && !matches!(event, Event::SlipSetChanged { .. }) {
-                println!("{:>6} increments  {event:?}", s.increments());
-                printed += 1;
-            }
-        }
-        Control::Continue
-    };
-    drive(&mut stepper, Goal::Steady, &mut observer)?;
-
-    let summary = stepper.run_to_steady()?;
-    println!(
-        "lambda = {load_factor}: {} after {} cycles, W = {:.6e}, rotation per cycle = {:.3e}",
-        summary.state, summary.cycles, summary.dissipation, summary.rotation_per_cycle
-    );
+    println!("lambda     {load_factor}");
+    println!("state      {}", outcome.state());
+    println!("how        {}", outcome.approach());
+    println!("W          {:.6e}", outcome.dissipation);
+    println!("rotation   {:.6e} per cycle", outcome.rotation_per_cycle);
+    println!("cycles     {}", outcome.cycles);
+    if let Verdict::GrossSlip(end) = outcome.verdict {
+        println!("ended at   {}", end.load);
+    }
     Ok(())
 }

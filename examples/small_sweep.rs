@@ -1,48 +1,35 @@
-//! A small sweep in the manner of the paper's Fig. 3: the steady-state
-//! dissipation `W` of five transients at a few load factors, beside the
-//! shakedown limit `lambda_2` of the linear programme.
+//! A small sweep in the manner of the paper's Fig. 3: the steady state and
+//! dissipation `W` of three transients at a few load factors, in one call.
 //!
 //! `cargo run --release --example small_sweep`
 
-use std::sync::atomic::AtomicBool;
-
-use shakedown::analysis::case::{Case, CaseParams};
-use shakedown::analysis::limit::{shakedown_limit, DEFAULT_SAMPLES};
-use shakedown::analysis::sweep::{SweepLists, SweepSpec};
-use shakedown::Initial;
+use shakedown::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // The paper's material, centre and slope, in phase (phi = 0).
-    let case = Case::from_params(&CaseParams::default())?;
-    let limit = shakedown_limit(
-        &case.material,
-        case.cycle.center(),
-        case.cycle.slope(),
-        0.0,
-        &case.disc,
-        DEFAULT_SAMPLES,
-    )?;
-    println!("lambda_2 = {:.4} (linear programme)", limit.load_factor);
-
+    let case = Case::builder().build()?;
     let lists = SweepLists {
-        load_factors: vec![4.0, 4.5, 5.0, 5.5, 6.0, 7.0],
+        load_factors: vec![4.0, 5.0, 6.0, 7.0],
         phases: vec![0.0],
-        initials: Initial::paper_set().into_iter().take(5).collect(),
+        initials: Initial::paper_set().into_iter().take(3).collect(),
     };
-    let spec = SweepSpec::over(&case, &lists)?;
-    let rows = spec.run(&spec.jobs(), &|_| {}, &AtomicBool::new(false));
+    let rows = SweepSpec::over(&case, &lists)?.run_all(None, None);
+
     println!(
-        "{:>6}  {:>8}  {:<28} {:>12}",
+        "{:>6}  {:>7}  {:<26} {:>12}",
         "lambda", "initial", "state", "W"
     );
     for row in &rows {
         match &row.outcome {
-            Ok(s) => println!(
-                "{:>6}  {:>8}  {:<28} {:>12.4e}",
-                row.job.load_factor, row.initial, s.state, s.dissipation
+            Ok(o) => println!(
+                "{:>6}  {:>7}  {:<26} {:>12.4e}",
+                row.job.load_factor,
+                row.initial,
+                o.state().as_str(),
+                o.dissipation
             ),
             Err(e) => println!(
-                "{:>6}  {:>8}  failed: {e}",
+                "{:>6}  {:>7}  failed: {e}",
                 row.job.load_factor, row.initial
             ),
         }

@@ -78,8 +78,8 @@
 //! // coarse grid so that the example runs quickly.
 //! let params = CaseParams { load_factor: 3.5, nodes: 32, steps: 200, ..CaseParams::default() };
 //! let case = Case::from_params(&params).unwrap();
-//! let summary = case.stepper().run_to_steady().unwrap();
-//! assert_eq!(summary.state, shakedown::SteadyState::Shakedown);
+//! let outcome = case.stepper().run_to_steady().unwrap();
+//! assert_eq!(outcome.state(), shakedown::SteadyState::Shakedown);
 //! ```
 
 #![warn(missing_docs)]
@@ -96,9 +96,22 @@ pub mod stepping;
 #[cfg(feature = "tui")]
 pub mod tui;
 
+pub use analysis::case::{Case, CaseBuilder, CaseError};
 pub use contact::{Advanced, Contact, ContactEnd, ContactError, Operators, SlipDirection};
 pub use model::PathError;
 pub use model::{Cycle, Discretisation, Initial, LoadPoint, Loads, Material, ParamError, Plane};
 pub use stepping::steady::{Approach, Convergence, CycleRecord, SteadyState};
 pub use stepping::Trend;
-pub use stepping::{Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary};
+pub use stepping::{
+    Event, Outcome, Phase, Status, StepError, StepOptions, StepReport, Stepper, Verdict,
+};
+
+/// What a script needs: `use shakedown::prelude::*;`.
+pub mod prelude {
+    pub use crate::analysis::case::{Case, CaseBuilder, CaseError};
+    pub use crate::analysis::limit::Limit;
+    pub use crate::analysis::sweep::{Row, SweepLists, SweepSpec};
+    pub use crate::model::{Initial, LoadPoint, Material, Plane};
+    pub use crate::stepping::steady::{Approach, SteadyState};
+    pub use crate::stepping::{GrossSlip, Outcome, Separation, ShakedownProof, Verdict};
+}

@@ -28,10 +28,10 @@ use std::f64::consts::PI;
 
 use serde::Serialize;
 
-use crate::analysis::limit::LimitError;
+use crate::analysis::limit::{shakedown_limit, Limit, LimitError, DEFAULT_SAMPLES};
 use crate::model::path::{Initial, PathError};
 use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
-use crate::stepping::{StepOptions, Stepper};
+use crate::stepping::{Outcome, StepError, StepOptions, Stepper};
 
 /// A case that cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -179,6 +179,162 @@ impl Case {
             self.cycle,
             self.options,
         )
+    }
+}
+
+impl Case {
+    /// A builder with the paper's parameters ([`CaseParams::default`]):
+    /// set what differs by name, then [`CaseBuilder::build`] validates.
+    ///
+    /// ```
+    /// use std::f64::consts::PI;
+    /// use shakedown::prelude::*;
+    ///
+    /// let case = Case::builder()
+    ///     .load_factor(5.5)
+    ///     .phase(PI / 2.0)
+    ///     .initial(Initial::Direct)
+    ///     .nodes(32)
+    ///     .steps(200)
+    ///     .build()?;
+    /// let outcome = case.run()?;
+    /// assert!(outcome.cycles > 0);
+    /// assert_ne!(outcome.state(), SteadyState::NotConverged);
+    /// let limit = case.limit()?;
+    /// assert!(limit.load_factor.is_finite() && limit.load_factor > 0.0);
+    /// assert!(Case::builder().nodes(127).build().is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn builder() -> CaseBuilder {
+        CaseBuilder::default()
+    }
+
+    /// Run the case to its steady state (or the end of the run) and give
+    /// its [`Outcome`].
+    ///
+    /// # Errors
+    ///
+    /// A numerical failure of an increment ([`StepError`]).
+    pub fn run(&self) -> Result<Outcome, StepError> {
+        self.stepper().run_to_steady()
+    }
+
+    /// The shakedown limit `lambda_2` of this case's material, centre,
+    /// slope and phase (the linear programme of model.md section 7.3, with
+    /// [`DEFAULT_SAMPLES`] instants of the cycle): its load factor is
+    /// [`Limit::load_factor`].
+    ///
+    /// # Errors
+    ///
+    /// As [`shakedown_limit`].
+    pub fn limit(&self) -> Result<Limit, LimitError> {
+        shakedown_limit(
+            &self.material,
+            self.cycle.center(),
+            self.cycle.slope(),
+            self.cycle.phase(),
+            &self.disc,
+            DEFAULT_SAMPLES,
+        )
+    }
+}
+
+/// Named settings of a [`Case`], validated together by
+/// [`CaseBuilder::build`] (in the manner of Clarabel's settings builder).
+/// Unset settings are the paper's ([`CaseParams::default`]).
+#[derive(Debug, Clone, Default)]
+pub struct CaseBuilder {
+    params: CaseParams,
+    initial: Option<Initial>,
+}
+
+impl CaseBuilder {
+    /// `lambda`, the load factor of eq. (12).
+    pub fn load_factor(mut self, load_factor: f64) -> Self {
+        self.params.load_factor = load_factor;
+        self
+    }
+    /// `phi`, the phase of the torque against the force, radians.
+    pub fn phase(mut self, phase: f64) -> Self {
+        self.params.phase = phase;
+        self
+    }
+    /// `psi`, the slope of the load line, eq. (13).
+    pub fn slope(mut self, slope: f64) -> Self {
+        self.params.slope = slope;
+        self
+    }
+    /// The cycle centre `A = (x0, y0)` in the load plane.
+    pub fn center(mut self, x: f64, y: f64) -> Self {
+        self.params.center = (x, y);
+        self
+    }
+    /// The friction coefficient `f`.
+    pub fn friction(mut self, friction: f64) -> Self {
+        self.params.friction = friction;
+        self
+    }
+    /// Poisson's ratio `nu`.
+    pub fn poisson(mut self, poisson: f64) -> Self {
+        self.params.poisson = poisson;
+        self
+    }
+    /// Plane strain or plane stress.
+    pub fn plane(mut self, plane: Plane) -> Self {
+        self.params.plane = plane;
+        self
+    }
+    /// The initial path ([`Initial::Optimal`] is resolved by `build`).
+    pub fn initial(mut self, initial: Initial) -> Self {
+        self.initial = Some(initial);
+        self
+    }
+    /// Interface nodes `N` (even, 16 to 4096).
+    pub fn nodes(mut self, nodes: usize) -> Self {
+        self.params.nodes = nodes;
+        self
+    }
+    /// Increments per cycle (16 to 100000).
+    pub fn steps(mut self, steps: usize) -> Self {
+        self.params.steps = steps;
+        self
+    }
+    /// Cycles run at most before the run is reported not converged
+    /// (1 to 100000).
+    pub fn max_cycles(mut self, max_cycles: usize) -> Self {
+        self.params.max_cycles = max_cycles;
+        self
+    }
+    /// Prove shakedown by a safe state before the first cycle without slip
+    /// (model.md section 6.4; on unless set off).
+    pub fn safe_state(mut self, on: bool) -> Self {
+        self.params.safe_state = on;
+        self
+    }
+
+    /// The validated case.
+    ///
+    /// # Errors
+    ///
+    /// As [`Case::from_params`]: the first setting out of range, or an
+    /// `optimal` initial slip that cannot be computed.
+    pub fn build(self) -> Result<Case, CaseError> {
+        let mut case = Case::from_params(&CaseParams {
+            // The path is given typed: validate the rest with the default.
+            initial: "OA".into(),
+            ..self.params
+        })?;
+        if let Some(initial) = self.initial {
+            case.initial = match initial {
+                Initial::Optimal => crate::analysis::limit::optimal_initial(
+                    &case.material,
+                    &case.cycle,
+                    &case.disc,
+                )?,
+                other => other,
+            };
+        }
+        Ok(case)
     }
 }
 

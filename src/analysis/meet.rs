@@ -182,7 +182,7 @@ impl Meets {
             if !run.replay_cycle(&trace.records[cycle - 1], &end.slip, meeting.shift) {
                 return None;
             }
-            if run.summary().is_some() {
+            if run.outcome().is_some() {
                 return Some(run);
             }
         }
@@ -194,7 +194,7 @@ impl Meets {
 mod tests {
     use super::*;
     use crate::model::{Cycle, Discretisation, Initial, Material};
-    use crate::stepping::{drive, Control, Goal, StepOptions, StepReport, Summary};
+    use crate::stepping::{drive, Control, Goal, Outcome, StepOptions, StepReport};
 
     fn stepper(initial: &Initial) -> Stepper {
         let disc = Discretisation::new(64, 200).unwrap();
@@ -210,7 +210,7 @@ mod tests {
         s
     }
 
-    fn run_alone(initial: &Initial) -> Summary {
+    fn run_alone(initial: &Initial) -> Outcome {
         stepper(initial).run_to_steady().unwrap()
     }
 
@@ -246,10 +246,10 @@ mod tests {
         let meeting = met.expect("the runs meet");
         assert_eq!(meeting.cycle, 2, "{meeting:?}");
         let replayed = meets.replay(meeting, &b).expect("to a verdict");
-        let took = replayed.summary().unwrap();
+        let took = replayed.outcome().unwrap();
         let stepped = run_alone(&second);
-        assert_eq!(took.state, stepped.state);
-        assert_eq!(took.approach, stepped.approach);
+        assert_eq!(took.state(), stepped.state());
+        assert_eq!(took.approach(), stepped.approach());
         assert_eq!(took.cycles, stepped.cycles);
         assert!(stepped.dissipation > 0.0, "{stepped:?}");
         let dw = (took.dissipation - stepped.dissipation).abs() / stepped.dissipation;

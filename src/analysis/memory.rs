@@ -12,7 +12,8 @@ use crate::model::path::Initial;
 use crate::model::Cycle;
 use crate::stepping::steady::SteadyState;
 use crate::stepping::{
-    drive, operators, Control, Goal, Observer, Status, StepError, StepReport, Stepper, Summary,
+    drive, operators, Control, Driven, Goal, Observer, Outcome, Status, StepError, StepReport,
+    Stepper,
 };
 
 /// Why the memory runs cannot be made.
@@ -44,8 +45,8 @@ pub struct MemoryRun {
     pub phase: f64,
     /// The initial path's stable name ([`Initial::name`]).
     pub initial: String,
-    /// The run's summary, or the numerical failure that stopped it.
-    pub outcome: Result<Summary, StepError>,
+    /// The run's outcome, or the numerical failure that stopped it.
+    pub outcome: Result<Outcome, StepError>,
     /// Nodes that slipped during the transient `O -> I -> A`, one flag per
     /// node. Slip below `1e-6` of the largest accumulated `|dg|` of the run
     /// counts as round-off (model.md section 6.2).
@@ -157,8 +158,8 @@ pub fn memory_runs(
             );
             let mut total = SlipTally::new(s.contact().slip());
             drive(&mut s, Goal::TransientEnd, &mut total)?;
-            if let Status::Ended(summary) = s.status() {
-                return Ok((Err(summary.clone()), total.total));
+            if let Status::Ended(outcome) = s.status() {
+                return Ok((Err(*outcome), total.total));
             }
             Ok((Ok(s.contact().clone()), total.total))
         })
@@ -175,7 +176,7 @@ pub fn memory_runs(
             let initial = spec.initials()[job.initial].name();
             let (outcome, transient, after) = match &prepared[job.initial] {
                 Err(e) => (Err(e.clone()), vec![0.0; n], vec![0.0; n]),
-                Ok((Err(summary), total)) => (Ok(summary.clone()), total.clone(), vec![0.0; n]),
+                Ok((Err(outcome), total)) => (Ok(*outcome), total.clone(), vec![0.0; n]),
                 Ok((Ok(contact), total)) => {
                     let cycle = cycles[job.index];
                     // r counts every node that slips after A up to the
@@ -186,8 +187,14 @@ pub fn memory_runs(
                     options.convergence.safe_state = false;
                     let mut s = Stepper::from_center(contact.clone(), cycle, spec.disc(), options);
                     let mut after = SlipTally::new(s.contact().slip());
-                    let outcome =
-                        drive(&mut s, Goal::Steady, &mut after).and_then(|_| s.run_to_steady());
+                    let outcome = loop {
+                        match drive(&mut s, Goal::Steady, &mut after) {
+                            Ok(Driven::Finished(outcome)) => break Ok(outcome),
+                            // The tally never stops the run.
+                            Ok(Driven::Reached | Driven::Stopped) => {}
+                            Err(e) => break Err(e),
+                        }
+                    };
                     (outcome, total.clone(), after.total)
                 }
             };
@@ -235,12 +242,12 @@ pub fn memory_points(runs: &[MemoryRun]) -> Vec<MemoryPoint> {
             let mut w = Vec::new();
             for r in &group {
                 match &r.outcome {
-                    Ok(s) if s.state == SteadyState::Shakedown => point.shakedown += 1,
-                    Ok(s) if s.state == SteadyState::CyclicSlip => {
+                    Ok(s) if s.state() == SteadyState::Shakedown => point.shakedown += 1,
+                    Ok(s) if s.state() == SteadyState::CyclicSlip => {
                         point.cyclic_slip += 1;
                         w.push(s.dissipation);
                     }
-                    Ok(s) if s.state.is_ratchetting() => {
+                    Ok(s) if s.state().is_ratchetting() => {
                         point.ratchetting += 1;
                         w.push(s.dissipation);
                     }

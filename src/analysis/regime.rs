@@ -27,7 +27,7 @@ impl RegimeCell {
     pub fn of_row(row: &Row) -> RegimeCell {
         match &row.outcome {
             Ok(s) => RegimeCell {
-                state: Some(s.state),
+                state: Some(s.state()),
                 dissipation: s.dissipation,
             },
             Err(_) => RegimeCell {

@@ -13,7 +13,7 @@ use crate::contact::SlipDirection;
 use crate::model::{Cycle, LoadPoint, Material};
 use crate::stepping::steady::SteadyState;
 use crate::stepping::{
-    drive, Control, Goal, Phase, Status, StepError, StepReport, Stepper, Summary,
+    drive, Control, Goal, Outcome, Phase, Status, StepError, StepReport, Stepper,
 };
 
 /// Why a slip map cannot be made.
@@ -54,8 +54,8 @@ pub struct SlipMap {
     pub cycle: Cycle,
     /// The number `N` of interface nodes.
     pub nodes: usize,
-    /// The summary of the run to its steady state, before the mapped cycle.
-    pub summary: Summary,
+    /// The outcome of the run to its steady state, before the mapped cycle.
+    pub outcome: Outcome,
     /// The load at `t = 0` (the point `C`).
     pub start: LoadPoint,
     /// One row per increment of the mapped cycle, in time order.
@@ -77,12 +77,14 @@ pub struct SlipMap {
 /// numerically.
 pub fn slip_map(case: &Case) -> Result<SlipMap, SlipMapError> {
     let mut s = case.stepper();
-    let summary = s.run_to_steady()?;
+    let outcome = s.run_to_steady()?;
     if s.is_finished() {
         return Err(SlipMapError::NoSteadyCycle {
-            state: summary.state,
+            state: outcome.state(),
         });
     }
+    // The mapped cycle one increment at a time.
+    s.set_straight_runs(false);
     let start = s.contact().load();
     let mut rows = Vec::with_capacity(case.disc.steps_per_cycle());
     let mut t0 = s.time().unwrap_or(0.0);
@@ -105,13 +107,13 @@ pub fn slip_map(case: &Case) -> Result<SlipMap, SlipMapError> {
         },
     )?;
     if let Status::Ended(end) = s.status() {
-        return Err(SlipMapError::NoSteadyCycle { state: end.state });
+        return Err(SlipMapError::NoSteadyCycle { state: end.state() });
     }
     Ok(SlipMap {
         material: case.material,
         cycle: case.cycle,
         nodes: case.disc.nodes(),
-        summary,
+        outcome,
         start,
         rows,
     })

@@ -24,8 +24,8 @@ use crate::model::path::Initial;
 use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError};
 use crate::stepping::steady::SteadyState;
 use crate::stepping::{
-    drive, operators, AtCenter, Control, Driven, Goal, Observer, StepError, StepOptions,
-    StepReport, Stepper, Summary,
+    drive, operators, AtCenter, Control, Driven, Goal, Observer, Outcome, StepError, StepOptions,
+    StepReport, Stepper,
 };
 
 /// The swept lists of a sweep: `lambda`, `phi` and the initial paths.
@@ -50,7 +50,7 @@ pub enum Axis {
 }
 
 /// The contact at the cycle centre `A` after one initial path, or the
-/// summary of a transient that already ended (gross slip, separation).
+/// outcome of a transient that already ended (gross slip, separation).
 pub type Prepared = Result<AtCenter, StepError>;
 
 /// What a sweep runs: the product `load_factors x phases x initials`, all
@@ -94,7 +94,7 @@ pub enum RowState {
     /// The run finished with this verdict (including the terminal events
     /// gross slip and separation, and not converged; model.md section 6.2).
     Steady(SteadyState),
-    /// The run has no summary ([`RunError`]).
+    /// The run has no outcome ([`RunError`]).
     Failed,
 }
 
@@ -107,7 +107,7 @@ impl std::fmt::Display for RowState {
     }
 }
 
-/// Why a run of a sweep has no summary.
+/// Why a run of a sweep has no outcome.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RunError {
     /// An increment failed numerically (in the transient or the cycles).
@@ -134,9 +134,9 @@ pub struct Row {
     pub job: Job,
     /// The initial path's stable name ([`Initial::name`]).
     pub initial: String,
-    /// The run's summary (steady state, `W`, cycles, rotation per cycle),
-    /// or why it has none.
-    pub outcome: Result<Summary, RunError>,
+    /// The run's outcome (steady state and how it was established, `W`,
+    /// cycles, rotation per cycle), or why it has none.
+    pub outcome: Result<Outcome, RunError>,
 }
 
 /// Most runs in one sweep (the product of the three lists): a larger grid
@@ -147,10 +147,10 @@ pub const MAX_RUNS: usize = 10_000_000;
 pub const CSV_HEADER: &str = "lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle";
 
 impl Row {
-    /// The state column: the summary's state, or [`RowState::Failed`].
+    /// The state column: the outcome's state, or [`RowState::Failed`].
     pub fn state(&self) -> RowState {
         match &self.outcome {
-            Ok(s) => RowState::Steady(s.state),
+            Ok(s) => RowState::Steady(s.state()),
             Err(_) => RowState::Failed,
         }
     }
@@ -350,7 +350,7 @@ impl SweepSpec {
     }
 
     /// The contact at `A` for each initial path (in parallel), or the
-    /// summary of a transient that already ended in gross slip or separation.
+    /// outcome of a transient that already ended in gross slip or separation.
     /// The `optimal` path has no phase-free start; it gets an error here.
     /// One entry per [`SweepSpec::initials`], in that order.
     pub fn prepare(&self) -> Vec<Prepared> {
@@ -381,6 +381,22 @@ impl SweepSpec {
         }
         contact.set_load_elastic(self.center);
         Ok(contact)
+    }
+
+    /// Run the whole sweep in one call and give its rows in job order.
+    /// `observer` sees each row as its run finishes (from any thread);
+    /// once `cancel` is set, runs not yet started are skipped.
+    pub fn run_all(
+        &self,
+        observer: Option<&(dyn Fn(&Row) + Sync)>,
+        cancel: Option<&AtomicBool>,
+    ) -> Vec<Row> {
+        let never = AtomicBool::new(false);
+        self.run(
+            &self.jobs(),
+            observer.unwrap_or(&|_| {}),
+            cancel.unwrap_or(&never),
+        )
     }
 
     /// Run `jobs` (a subset of [`SweepSpec::jobs`]) in parallel. `done` is
@@ -514,7 +530,7 @@ impl SweepSpec {
         let initial = self.initials[job.initial].name();
         let outcome = match starts.get(self, job) {
             Err(e) => Err(e),
-            Ok(Err(summary)) => Ok(summary.clone()),
+            Ok(Err(outcome)) => Ok(*outcome),
             Ok(Ok(contact)) => match self.cycle(job) {
                 Err(e) => Err(RunError::Param(e)),
                 Ok(cycle) => {
@@ -548,14 +564,17 @@ impl SweepSpec {
                                 Some(meeting) => {
                                     look.seek = false;
                                     if let Some(run) = carry.meets.replay(meeting, &s) {
-                                        let summary = run.summary().cloned();
-                                        replayed = Some(run);
-                                        break Ok(summary.expect("replayed to a verdict"));
+                                        if let Some(&outcome) = run.outcome() {
+                                            replayed = Some(run);
+                                            break Ok(outcome);
+                                        }
                                     }
                                 }
                                 None => return None,
                             },
-                            Ok(Driven::Reached) => break s.run_to_steady().map_err(RunError::Step),
+                            Ok(Driven::Finished(outcome)) => break Ok(outcome),
+                            // Not a goal of this drive.
+                            Ok(Driven::Reached) => {}
                             Err(e) => break Err(RunError::Step(e)),
                         }
                     };
@@ -612,7 +631,7 @@ impl Observer for Look<'_> {
             return Control::Stop;
         }
         self.trace.note(stepper);
-        if self.seek && stepper.summary().is_none() {
+        if self.seek && stepper.outcome().is_none() {
             self.met = self.meets.find(stepper);
             if self.met.is_some() {
                 return Control::Stop;
@@ -682,7 +701,7 @@ impl Starts {
         &'a self,
         spec: &SweepSpec,
         job: &Job,
-    ) -> Result<Result<&'a Contact, &'a Summary>, RunError> {
+    ) -> Result<Result<&'a Contact, &'a Outcome>, RunError> {
         let ops = self.ops.get_or_init(|| operators(&spec.disc));
         match &spec.initials[job.initial] {
             Initial::Optimal => {
@@ -703,7 +722,7 @@ impl Starts {
             initial => {
                 match self.shared[job.initial].get_or_init(|| spec.prepare_one(ops, initial)) {
                     Err(e) => Err(RunError::Step(e.clone())),
-                    Ok(AtCenter::Ended(summary)) => Ok(Err(summary)),
+                    Ok(AtCenter::Ended(outcome)) => Ok(Err(outcome)),
                     Ok(AtCenter::Ready(contact)) => Ok(Ok(contact)),
                 }
             }

@@ -716,10 +716,10 @@ fn read_slip_map_files(from: &Path) -> Result<SlipMap> {
 }
 
 fn describe(map: &SlipMap) -> Result<()> {
-    let s = &map.summary;
+    let s = &map.outcome;
     outln!(
         "steady state: {} after {} cycles, W = {:.6e}, rotation {:.3e} per cycle",
-        s.state,
+        s.state(),
         s.cycles,
         s.dissipation,
         s.rotation_per_cycle

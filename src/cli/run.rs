@@ -6,8 +6,7 @@ use anyhow::Result;
 use clap::Args;
 use serde_json::json;
 use shakedown::analysis::case::CaseParams;
-use shakedown::stepping::steady::Approach;
-use shakedown::stepping::Summary;
+use shakedown::stepping::{Outcome, ShakedownProof, Verdict};
 
 use super::batch::print_stdout;
 use super::CaseArgs;
@@ -55,7 +54,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
         }
     }
     let mut stepper = case.stepper();
-    let summary = match &args.profile {
+    let outcome = match &args.profile {
         None => stepper.run_to_steady()?,
         Some(out) => {
             let (summary, profile) = shakedown::analysis::profile::profile_run(&mut stepper)?;
@@ -63,7 +62,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
                 return Err(anyhow::anyhow!(super::InputError(format!(
                     "--profile {}: the run ended ({}) before it completed a cycle: there is no cycle to profile",
                     out.display(),
-                    summary.state
+                    summary.state()
                 ))));
             };
             let csv =
@@ -76,29 +75,28 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     let text = if args.json {
         format!(
             "{}\n",
-            serde_json::to_string(&to_json(&params, &summary, &history))?
+            serde_json::to_string(&to_json(&params, &outcome, &history))?
         )
     } else {
-        readable(&params, &summary, &history)
+        readable(&params, &outcome, &history)
     };
     // A closed pipe (`shakedown run | head -1`) is not an error.
     print_stdout(&text)?;
     Ok(ExitCode::SUCCESS)
 }
 
-pub fn to_json(params: &CaseParams, s: &Summary, history: &[f64]) -> serde_json::Value {
+pub fn to_json(params: &CaseParams, s: &Outcome, history: &[f64]) -> serde_json::Value {
     json!({
-        "state": s.state,
+        "state": s.state(),
         "dissipation": s.dissipation,
         "cycles": s.cycles,
         "rotation_per_cycle": s.rotation_per_cycle,
-        "approach": s.approach,
-        "terminal_load": s.terminal_load,
-        "terminal_time": s.terminal_time,
-        "terminal_theta": s.terminal_theta,
-        "trend": s.trend,
-        "certificate": s.certificate,
-        "outcome": s.outcome(),
+        "approach": s.approach(),
+        "terminal_load": s.terminal_load(),
+        "terminal_time": s.terminal_time(),
+        "terminal_theta": s.terminal_theta(),
+        "trend": s.trend(),
+        "certificate": s.certificate(),
         "version": env!("CARGO_PKG_VERSION"),
         "dissipation_history": history,
         "parameters": {
@@ -118,7 +116,7 @@ pub fn to_json(params: &CaseParams, s: &Summary, history: &[f64]) -> serde_json:
     })
 }
 
-fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
+fn readable(p: &CaseParams, s: &Outcome, history: &[f64]) -> String {
     use std::fmt::Write;
     let mut o = String::new();
     let _ = writeln!(
@@ -136,34 +134,35 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
         "material  f = {}  nu = {}  plane {}   initial path {}   N = {}, {} increments/cycle",
         p.friction, p.poisson, p.plane, p.initial, p.nodes, p.steps
     );
-    let how = match s.approach {
-        Approach::NoSlipCycle => "a whole cycle without slip".to_string(),
-        Approach::SafeState => match &s.certificate {
-            Some(c) => format!(
-                "a safe state: margin {:.3e} > f C R = {:.3e} x {:.3e}, so all slip to come is at most {:.3e}",
-                c.margin, c.coupling, c.distance, c.slip_bound
-            ),
-            None => "a safe state".to_string(),
-        },
-        Approach::Converged => format!(
+    let how = match s.verdict {
+        Verdict::Shakedown(ShakedownProof::NoSlipCycle) => "a whole cycle without slip".to_string(),
+        Verdict::Shakedown(ShakedownProof::SafeState(c)) => format!(
+            "a safe state: margin {:.3e} > f C R = {:.3e} x {:.3e}, so all slip to come is at most {:.3e}",
+            c.margin, c.coupling, c.distance, c.slip_bound
+        ),
+        Verdict::Shakedown(ShakedownProof::Converged)
+        | Verdict::CyclicSlip
+        | Verdict::Ratchetting { .. } => format!(
             "W changed by less than 0.01 % over {} successive cycles",
             shakedown::stepping::steady::SETTLE_CYCLES
         ),
-        Approach::Terminal => match (s.terminal_load, s.terminal_time) {
-            (Some(l), Some(t)) => format!(
-                "at load point {l}, omega t = {t:.4} in cycle {}",
-                s.cycles + 1
-            ),
-            (Some(l), None) => format!("at load point {l} in the initial transient"),
-            _ => String::new(),
-        },
-        Approach::Cap => format!(
+        Verdict::GrossSlip(_) | Verdict::Separation(_) => {
+            match (s.terminal_load(), s.terminal_time()) {
+                (Some(l), Some(t)) => format!(
+                    "at load point {l}, omega t = {t:.4} in cycle {}",
+                    s.cycles + 1
+                ),
+                (Some(l), None) => format!("at load point {l} in the initial transient"),
+                _ => String::new(),
+            }
+        }
+        Verdict::NotConverged { .. } => format!(
             "the cap of {} cycles was reached with W still changing",
             p.max_cycles
         ),
     };
-    let _ = writeln!(o, "state     {}  ({how})", s.state);
-    match &s.certificate {
+    let _ = writeln!(o, "state     {}  ({how})", s.state());
+    match s.certificate() {
         Some(c) => {
             let _ = writeln!(
                 o,
@@ -185,7 +184,7 @@ fn readable(p: &CaseParams, s: &Summary, history: &[f64]) -> String {
         s.rotation_per_cycle
     );
     let _ = writeln!(o, "cycles    {}", s.cycles);
-    if let Some(t) = &s.trend {
+    if let Some(t) = s.trend() {
         let _ = writeln!(
             o,
             "trend     W heading for {:.3e} +- {:.3e}  (changes shrink by {:.4} a cycle; W ~ k^-{:.2} over the last {} cycles)",

@@ -267,8 +267,8 @@ impl Drawing for SlipMapPlot<'_> {
         format!(
             "{}: {}, W = {} per cycle. (a) Slip zones over one steady cycle against θ; (b) the load against the same time; {time}.",
             self.title.trim_end_matches('.'),
-            map.summary.state,
-            readable(map.summary.dissipation)
+            map.outcome.state(),
+            readable(map.outcome.dissipation)
         )
     }
 

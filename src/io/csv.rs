@@ -18,7 +18,7 @@ use crate::contact::SlipDirection;
 use crate::io::read::escape_text;
 use crate::model::{Cycle, Discretisation, LoadPoint, Material, Plane};
 use crate::stepping::steady::{Approach, Convergence, SteadyState};
-use crate::stepping::Summary;
+use crate::stepping::{Certificate, Outcome, ShakedownProof, Verdict};
 
 /// The version of the tool that wrote a file, as its first comment line says.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
@@ -427,16 +427,27 @@ pub const SLIP_MAP_TABLE: &str = "slip-map";
 
 /// The comment lines of a slip map's two CSVs ([`SlipMap::csv`] and
 /// [`SlipMap::load_csv`]): the case ([`case_metadata`], table
-/// [`SLIP_MAP_TABLE`]) and the summary of the run to its steady state,
+/// [`SLIP_MAP_TABLE`]) and the outcome of the run to its steady state,
 /// so that [`read_slip_map`] can give back the very map drawn.
 pub fn slip_map_metadata(case: &Case, map: &SlipMap) -> Metadata {
     let mut m = case_metadata(SLIP_MAP_TABLE, case, &case.initial.name());
-    let s = &map.summary;
-    m.push("state", s.state)
-        .push("approach", s.approach)
+    let s = &map.outcome;
+    m.push("state", s.state())
+        .push("approach", s.approach())
         .push("dissipation", s.dissipation)
         .push("cycles", s.cycles)
         .push("rotation_per_cycle", s.rotation_per_cycle);
+    // What proved a shakedown by a safe state, so that the map read back
+    // says it too.
+    if let Some(c) = s.certificate() {
+        m.push(
+            "certificate",
+            format!(
+                "{},{},{},{},{},{}",
+                c.cycle, c.margin, c.distance, c.coupling, c.slip_bound, c.last_dissipation
+            ),
+        );
+    }
     m
 }
 
@@ -566,7 +577,7 @@ pub fn read_slip_map(map: &str, load: &str) -> Result<SlipMap, SlipMapReadError>
         material: head.material,
         cycle: head.cycle,
         nodes: head.nodes,
-        summary: head.summary,
+        outcome: head.outcome,
         start,
         rows,
     })
@@ -600,7 +611,7 @@ struct SlipMapHead {
     cycle: Cycle,
     nodes: usize,
     steps: usize,
-    summary: Summary,
+    outcome: Outcome,
 }
 
 impl SlipMapHead {
@@ -661,24 +672,68 @@ impl SlipMapHead {
             .into_iter()
             .find(|a| a.as_str() == approach_text)
             .ok_or_else(|| bad("approach", approach_text, "not a way to a verdict".into()))?;
-        let summary = Summary {
-            state,
-            approach,
+        let verdict = match (state, approach) {
+            (SteadyState::Shakedown, Approach::NoSlipCycle) => {
+                Verdict::Shakedown(ShakedownProof::NoSlipCycle)
+            }
+            (SteadyState::Shakedown, Approach::SafeState) => {
+                let text = get("certificate")?;
+                let numbers: Option<Vec<f64>> = text
+                    .split(',')
+                    .map(|v| v.parse::<f64>().ok().filter(|x| x.is_finite()))
+                    .collect();
+                let c =
+                    match numbers.as_deref() {
+                        Some(
+                            &[cycle, margin, distance, coupling, slip_bound, last_dissipation],
+                        ) if cycle >= 0.0 && cycle.fract() == 0.0 => Certificate {
+                            cycle: cycle as usize,
+                            margin,
+                            distance,
+                            coupling,
+                            slip_bound,
+                            last_dissipation,
+                        },
+                        _ => return Err(bad(
+                            "certificate",
+                            text,
+                            "expected cycle,margin,distance,coupling,slip_bound,last_dissipation"
+                                .into(),
+                        )),
+                    };
+                Verdict::Shakedown(ShakedownProof::SafeState(c))
+            }
+            (SteadyState::Shakedown, Approach::Converged) => {
+                Verdict::Shakedown(ShakedownProof::Converged)
+            }
+            (SteadyState::CyclicSlip, Approach::Converged) => Verdict::CyclicSlip,
+            (SteadyState::RatchettingMonotonic, Approach::Converged) => {
+                Verdict::Ratchetting { monotonic: true }
+            }
+            (SteadyState::RatchettingNonMonotonic, Approach::Converged) => {
+                Verdict::Ratchetting { monotonic: false }
+            }
+            (SteadyState::NotConverged, Approach::Cap) => Verdict::NotConverged { trend: None },
+            _ => {
+                return Err(bad(
+                    "approach",
+                    approach_text,
+                    format!("not how a slip map's state '{state}' is established"),
+                ))
+            }
+        };
+        let outcome = Outcome {
+            verdict,
             dissipation: number("dissipation")?,
             cycles: count("cycles")?,
             rotation_per_cycle: number("rotation_per_cycle")?,
-            terminal_load: None,
-            terminal_time: None,
-            terminal_theta: None,
-            trend: None,
-            certificate: None,
         };
         Ok(Self {
             material,
             cycle,
             nodes,
             steps,
-            summary,
+            outcome,
         })
     }
 }

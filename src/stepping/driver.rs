@@ -4,7 +4,8 @@
 //! the explorer's "to the steady state" all go through [`drive`], so the
 //! loop "step until the steady state" exists once.
 
-use super::stepper::{Phase, Status, StepError, StepReport, Stepper};
+use super::outcome::Outcome;
+use super::stepper::{Phase, StepError, StepReport, Stepper};
 
 /// What an observer tells the driver after an increment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -19,8 +20,8 @@ pub enum Control {
 /// Where [`drive`] stops stepping.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Goal {
-    /// Until the run is classified ([`Status::Steady`]) or ends
-    /// ([`Status::Ended`]).
+    /// Until the run is classified ([`super::Status::Steady`]) or ends
+    /// ([`super::Status::Ended`]).
     Steady,
     /// Until the initial transient is over (the stepper is in cycle 1) or
     /// the run ends.
@@ -32,12 +33,25 @@ pub enum Goal {
 }
 
 /// How [`drive`] came back.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Driven {
-    /// The goal was met (or the run ended: see [`Stepper::status`]).
+    /// The run has its outcome: [`Goal::Steady`] was met, or the run ended
+    /// (gross slip, separation) on the way to another goal.
+    Finished(Outcome),
+    /// Another goal was met; the run goes on.
     Reached,
     /// The observer asked to stop before the goal.
     Stopped,
+}
+
+impl Driven {
+    /// The outcome, when the drive finished the run.
+    pub fn outcome(self) -> Option<Outcome> {
+        match self {
+            Driven::Finished(outcome) => Some(outcome),
+            Driven::Reached | Driven::Stopped => None,
+        }
+    }
 }
 
 /// Watches a run increment by increment. Closures
@@ -65,7 +79,8 @@ impl Observer for Silent {
 }
 
 /// Step `stepper` until `goal` is met, the run ends, or `observer` says
-/// stop.
+/// stop; with [`Goal::Steady`] it comes back with the run's [`Outcome`]
+/// ([`Driven::Finished`]) unless the observer stopped it.
 ///
 /// # Errors
 ///
@@ -75,8 +90,8 @@ impl Observer for Silent {
 /// # Example
 ///
 /// ```
-/// use shakedown::stepping::{drive, Control, Goal, Driven};
-/// use shakedown::{Cycle, Discretisation, Initial, Material, StepOptions, Stepper, Status};
+/// use shakedown::stepping::{drive, Control, Driven, Goal};
+/// use shakedown::{Cycle, Discretisation, Initial, Material, StepOptions, Stepper};
 ///
 /// let disc = Discretisation::new(32, 200).unwrap();
 /// let cycle = Cycle::paper(3.0, 0.0).unwrap();
@@ -89,8 +104,8 @@ impl Observer for Silent {
 ///     Control::Continue
 /// })
 /// .unwrap();
-/// assert_eq!(how, Driven::Reached);
-/// assert!(matches!(stepper.status(), Status::Steady(_)));
+/// let Driven::Finished(outcome) = how else { panic!("{how:?}") };
+/// assert_eq!(outcome.state(), shakedown::SteadyState::Shakedown);
 /// assert!(increments > 200);
 /// ```
 pub fn drive(
@@ -103,13 +118,17 @@ pub fn drive(
     // One report for the whole drive: its buffers are reused step to step.
     let mut report = StepReport::default();
     loop {
-        let reached = stepper.is_finished()
-            || match goal {
-                Goal::Steady => !matches!(stepper.status(), Status::Running),
-                Goal::TransientEnd => matches!(stepper.phase(), Phase::Cycle { .. }),
-                Goal::CycleEnd => stepper.history().len() > start_cycles,
-                Goal::Increments(n) => done >= n,
-            };
+        if let Some(outcome) = stepper.outcome() {
+            if goal == Goal::Steady || stepper.is_finished() {
+                return Ok(Driven::Finished(*outcome));
+            }
+        }
+        let reached = match goal {
+            Goal::Steady => false,
+            Goal::TransientEnd => matches!(stepper.phase(), Phase::Cycle { .. }),
+            Goal::CycleEnd => stepper.history().len() > start_cycles,
+            Goal::Increments(n) => done >= n,
+        };
         if reached {
             return Ok(Driven::Reached);
         }

@@ -12,10 +12,10 @@ pub mod verdict;
 mod zones;
 
 pub use driver::{drive, Control, Driven, Goal, Observer, Silent};
-pub use outcome::{Outcome, ShakedownProof};
+pub use outcome::{GrossSlip, Outcome, Separation, ShakedownProof, Verdict};
 pub use safe_state::Certificate;
 pub use stepper::{
-    operators, AtCenter, Event, Phase, Status, StepError, StepOptions, StepReport, Stepper, Summary,
+    operators, AtCenter, Event, Phase, Status, StepError, StepOptions, StepReport, Stepper,
 };
 pub use verdict::Trend;
 pub use zones::{slip_zones, zone_changes, SlipZone, ZoneChange};

@@ -7,10 +7,11 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
-use super::driver::{drive, Control, Goal, Silent};
+use super::driver::{drive, Control, Driven, Goal, Silent};
+use super::outcome::{GrossSlip, Outcome, Separation, ShakedownProof, Verdict};
 use super::safe_state::{self, Certificate, Fall, SafeStateSearch};
 use super::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
-use super::verdict::{trend, Trend};
+use super::verdict::trend;
 use super::zones::{slip_zones, zone_changes, SlipZone, ZoneChange};
 use crate::contact::{
     Advanced, Contact, ContactEnd, ContactError, ContactEventKind, Operators, SlipDirection,
@@ -53,10 +54,6 @@ pub enum StepError {
 /// Options of the stepper.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct StepOptions {
-    /// Bisections of an increment in which a slip node sticks again.
-    /// Unused: advancing stick is now located exactly within the increment
-    /// (see `contact::Increment`); kept for the options' format.
-    pub stick_bisections: usize,
     /// Bisections of an increment whose active set does not settle.
     pub failure_bisections: usize,
     /// When the run has reached its steady state: the 0.01 % rule on the
@@ -67,7 +64,6 @@ pub struct StepOptions {
 impl Default for StepOptions {
     fn default() -> Self {
         Self {
-            stick_bisections: 1,
             failure_bisections: 12,
             convergence: Convergence::default(),
         }
@@ -147,55 +143,13 @@ pub enum Event {
         /// (model.md section 1.3).
         rotation: f64,
     },
-    /// The steady state was reached and classified.
-    SteadyStateReached(Summary),
-    /// The whole interface slides: `|y|` reached `2 pi` at `load` (exact,
+    /// The steady state was reached and classified (or the run ended).
+    SteadyStateReached(Outcome),
+    /// The whole interface slides: `|y|` reached `2 pi` (exact,
     /// interpolated within the increment). The run ends here.
-    GrossSlip {
-        /// The load point `(x, y)` where `|y| = 2 pi` (model.md section 2.3).
-        load: LoadPoint,
-        /// `omega t` in `[0, 2 pi)` in the cycle; `None` in the transient.
-        time: Option<f64>,
-    },
-    /// The pressure reached zero at `theta`, at `load`: the run ends here.
-    Separation {
-        /// The load point `(x, y)` where the pressure `p` reached zero.
-        load: LoadPoint,
-        /// `omega t` in `[0, 2 pi)` in the cycle; `None` in the transient.
-        time: Option<f64>,
-        /// The angle `theta` of the node where `p` reached zero (model.md
-        /// section 2.3).
-        theta: f64,
-    },
-}
-
-/// The outcome of a run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Summary {
-    /// The steady state reached (model.md section 6.2).
-    pub state: SteadyState,
-    /// How the verdict was reached: a cycle without slip, the 0.01 % rule,
-    /// a terminal event or the cycle cap (model.md section 6.1).
-    pub approach: Approach,
-    /// `W` of the last complete cycle (model.md normalisation).
-    pub dissipation: f64,
-    /// Complete cycles run.
-    pub cycles: usize,
-    /// Net rigid rotation of the last cycle.
-    pub rotation_per_cycle: f64,
-    /// Where gross slip or separation happened.
-    pub terminal_load: Option<LoadPoint>,
-    /// `omega t` of the terminal point, when it was in the cycle.
-    pub terminal_time: Option<f64>,
-    /// Node angle of separation.
-    pub terminal_theta: Option<f64>,
-    /// For a `not-converged` run: the trend of `W` over the last cycles and
-    /// an estimate of its limit.
-    pub trend: Option<Trend>,
-    /// For shakedown proven by a safe state (approach `safe-state`): the
-    /// safe state's margin and distance, and the bound on the slip still
-    /// to come (model.md section 6.4).
-    pub certificate: Option<Certificate>,
+    GrossSlip(GrossSlip),
+    /// The pressure reached zero: the run ends here.
+    Separation(Separation),
 }
 
 /// Where a transient to the cycle centre `A` left the contact
@@ -205,14 +159,7 @@ pub enum AtCenter {
     /// At `A`, ready for the cycle.
     Ready(Box<Contact>),
     /// The transient ended the run (gross slip or separation before `A`).
-    Ended(Summary),
-}
-
-/// How a run ended physically, at the load point where it happened.
-#[derive(Debug, Clone, Copy)]
-enum Terminal {
-    GrossSlip { load: LoadPoint },
-    Separation { load: LoadPoint, theta: f64 },
+    Ended(Outcome),
 }
 
 /// What one call to [`Stepper::step`] did.
@@ -246,9 +193,9 @@ pub enum Status {
     /// state.
     Running,
     /// Classified; stepping may continue through further cycles.
-    Steady(Summary),
+    Steady(Outcome),
     /// Gross slip or separation: no further steps are possible.
-    Ended(Summary),
+    Ended(Outcome),
 }
 
 /// How far [`Stepper::advance`] got along its part of the increment.
@@ -470,8 +417,8 @@ impl Stepper {
         s.straight = true;
         // The dummy cycle starts at A, so the transient ends exactly there.
         drive(&mut s, Goal::TransientEnd, &mut Silent)?;
-        if let Status::Ended(summary) = &s.status {
-            return Ok(AtCenter::Ended(summary.clone()));
+        if let Status::Ended(outcome) = s.status {
+            return Ok(AtCenter::Ended(outcome));
         }
         Ok(AtCenter::Ready(Box::new(s.contact)))
     }
@@ -552,7 +499,7 @@ impl Stepper {
     /// rotation (the cycle cap and the trend of `W` read those), with
     /// `forward` and `backward` emptied; once it has its verdict, nothing
     /// reads them any more and older cycles are dropped altogether. No
-    /// verdict, summary or count of cycles changes. Returns the bytes freed.
+    /// verdict, outcome or count of cycles changes. Returns the bytes freed.
     pub fn trim_history(&mut self, keep: usize) -> usize {
         let keep = keep.max(super::steady::SETTLE_CYCLES + 1);
         let end = self.history.len().saturating_sub(keep);
@@ -610,7 +557,7 @@ impl Stepper {
 
     /// The outcome, once there is one: the steady-state verdict or the end
     /// of the run; `None` while [`Status::Running`].
-    pub fn summary(&self) -> Option<&Summary> {
+    pub fn outcome(&self) -> Option<&Outcome> {
         match &self.status {
             Status::Running => None,
             Status::Steady(s) | Status::Ended(s) => Some(s),
@@ -915,12 +862,8 @@ impl Stepper {
                 })
             }
             // Gross slip and separation are outcomes, not failures.
-            Ok(Progress::Ended(ContactEnd::GrossSlip { load }, at)) => {
-                self.end(Terminal::GrossSlip { load }, at, report);
-                return Ok(());
-            }
-            Ok(Progress::Ended(ContactEnd::Separation { load, theta, .. }, at)) => {
-                self.end(Terminal::Separation { load, theta }, at, report);
+            Ok(Progress::Ended(end, at)) => {
+                self.end(end, at, report);
                 return Ok(());
             }
         }
@@ -1045,40 +988,28 @@ impl Stepper {
 
     /// The run ends at parameter `at` of the current increment, where the
     /// contact is and the error's load point is.
-    fn end(&mut self, terminal: Terminal, at: f64, report: &mut StepReport) {
+    fn end(&mut self, end: ContactEnd, at: f64, report: &mut StepReport) {
         let time = self.time_at(at);
-        let (state, load, theta, event) = match terminal {
-            Terminal::GrossSlip { load } => (
-                SteadyState::GrossSlip,
-                load,
-                None,
-                Event::GrossSlip { load, time },
-            ),
-            Terminal::Separation { load, theta } => (
-                SteadyState::Separation,
-                load,
-                Some(theta),
-                Event::Separation { load, time, theta },
-            ),
+        let (verdict, event) = match end {
+            ContactEnd::GrossSlip { load } => {
+                let end = GrossSlip { load, time };
+                (Verdict::GrossSlip(end), Event::GrossSlip(end))
+            }
+            ContactEnd::Separation { load, theta, .. } => {
+                let end = Separation { load, time, theta };
+                (Verdict::Separation(end), Event::Separation(end))
+            }
         };
         let last = self.history.last();
-        let summary = Summary {
-            state,
-            approach: Approach::Terminal,
+        let outcome = Outcome {
+            verdict,
             dissipation: last.map_or(0.0, |r| r.dissipation),
             cycles: last.map_or(0, |r| r.cycle),
             rotation_per_cycle: last.map_or(0.0, |r| r.rotation),
-            terminal_load: Some(load),
-            terminal_time: time,
-            terminal_theta: theta,
-            trend: None,
-            certificate: None,
         };
         report.events.push(event);
-        report
-            .events
-            .push(Event::SteadyStateReached(summary.clone()));
-        self.status = Status::Ended(summary);
+        report.events.push(Event::SteadyStateReached(outcome));
+        self.status = Status::Ended(outcome);
     }
 
     /// The initial path has just reached the cycle centre `A`. A sweep
@@ -1165,44 +1096,49 @@ impl Stepper {
         if !matches!(self.status, Status::Running) {
             return;
         }
-        let verdict = assess(&self.history, &self.options.convergence)
-            .map(|(state, approach)| (state, approach, None))
-            .or_else(|| self.safe_state_verdict());
-        let Some((state, approach, certificate)) = verdict else {
-            return;
+        let verdict = match assess(&self.history, &self.options.convergence) {
+            Some((state, approach)) => self.verdict_of(state, approach),
+            None => match self.safe_state_certificate() {
+                Some(c) => Verdict::Shakedown(ShakedownProof::SafeState(c)),
+                None => return,
+            },
         };
         let last = self.history.last().expect("just pushed");
-        // A run that reached the cap keeps its last cycle and says where
-        // `W` was heading.
-        let trend = if approach == Approach::Cap {
-            let w: Vec<f64> = self.history.iter().map(|r| r.dissipation).collect();
-            trend(&w)
-        } else {
-            None
-        };
         // A safe state proves that W tends to zero: the steady cycle's W
         // and rotation are zero (the last cycle's W is in the certificate).
-        let (dissipation, rotation_per_cycle) = if certificate.is_some() {
-            (0.0, 0.0)
-        } else {
-            (last.dissipation, last.rotation)
+        let (dissipation, rotation_per_cycle) = match verdict {
+            Verdict::Shakedown(ShakedownProof::SafeState(_)) => (0.0, 0.0),
+            _ => (last.dissipation, last.rotation),
         };
-        let summary = Summary {
-            state,
-            approach,
+        let outcome = Outcome {
+            verdict,
             dissipation,
             cycles: self.history.len(),
             rotation_per_cycle,
-            terminal_load: None,
-            terminal_time: None,
-            terminal_theta: None,
-            trend,
-            certificate,
         };
-        report
-            .events
-            .push(Event::SteadyStateReached(summary.clone()));
-        self.status = Status::Steady(summary);
+        report.events.push(Event::SteadyStateReached(outcome));
+        self.status = Status::Steady(outcome);
+    }
+
+    /// The verdict of [`assess`] on the history: the state it found, with
+    /// how, and for a run that reached the cap where `W` was heading.
+    fn verdict_of(&self, state: SteadyState, approach: Approach) -> Verdict {
+        match (state, approach) {
+            (SteadyState::Shakedown, Approach::NoSlipCycle) => {
+                Verdict::Shakedown(ShakedownProof::NoSlipCycle)
+            }
+            (SteadyState::Shakedown, _) => Verdict::Shakedown(ShakedownProof::Converged),
+            (SteadyState::CyclicSlip, _) => Verdict::CyclicSlip,
+            (SteadyState::RatchettingMonotonic, _) => Verdict::Ratchetting { monotonic: true },
+            (SteadyState::RatchettingNonMonotonic, _) => Verdict::Ratchetting { monotonic: false },
+            // `assess` draws no terminal verdict and stops at the cap only:
+            // a run that reached it keeps its last cycle and says where `W`
+            // was heading.
+            (SteadyState::GrossSlip | SteadyState::Separation | SteadyState::NotConverged, _) => {
+                let w: Vec<f64> = self.history.iter().map(|r| r.dissipation).collect();
+                Verdict::NotConverged { trend: trend(&w) }
+            }
+        }
     }
 
     /// Take a whole cycle from another run of the same case instead of
@@ -1237,7 +1173,7 @@ impl Stepper {
 
     /// After a complete cycle without a verdict: shakedown proven by a safe
     /// state near the slip reached (model.md section 6.4), if there is one.
-    fn safe_state_verdict(&mut self) -> Option<(SteadyState, Approach, Option<Certificate>)> {
+    fn safe_state_certificate(&mut self) -> Option<Certificate> {
         if !self.options.convergence.safe_state {
             return None;
         }
@@ -1271,34 +1207,29 @@ impl Stepper {
             ))
         });
         let ops = Arc::clone(self.contact.operators());
-        search
-            .check(&self.contact, &ops, last.cycle, last.dissipation, fall)
-            .map(|c| (SteadyState::Shakedown, Approach::SafeState, Some(c)))
+        search.check(&self.contact, &ops, last.cycle, last.dissipation, fall)
     }
 
-    /// Step until the steady state is reached (or the run ends): [`drive`]
-    /// with [`Goal::Steady`] and no observer.
+    /// Run to the steady state (or the end of the run) reporting nothing
+    /// on the way: the stepper takes straight runs and reports no events
+    /// from here on ([`Stepper::set_straight_runs`],
+    /// [`Stepper::set_zone_events`], [`Stepper::set_event_reports`]), then
+    /// [`drive`]s with [`Goal::Steady`]. A run that already has its outcome
+    /// gives it at once.
     ///
     /// # Errors
     ///
     /// A numerical failure of an increment.
-    pub fn run_to_steady(&mut self) -> Result<Summary, StepError> {
-        // Nobody reads the events on the way.
-        let zone_events = std::mem::replace(&mut self.zone_events, false);
-        let event_reports = std::mem::replace(&mut self.event_reports, false);
-        let straight = std::mem::replace(&mut self.straight, true);
-        let result = loop {
-            if let Some(summary) = self.summary() {
-                break Ok(summary.clone());
+    pub fn run_to_steady(&mut self) -> Result<Outcome, StepError> {
+        self.set_zone_events(false);
+        self.set_event_reports(false);
+        self.set_straight_runs(true);
+        // A silent observer never stops the drive: it comes back finished.
+        loop {
+            if let Driven::Finished(outcome) = drive(self, Goal::Steady, &mut Silent)? {
+                return Ok(outcome);
             }
-            if let Err(e) = drive(self, Goal::Steady, &mut Silent) {
-                break Err(e);
-            }
-        };
-        self.zone_events = zone_events;
-        self.event_reports = event_reports;
-        self.straight = straight;
-        result
+        }
     }
 
     /// Let each step take a whole straight run of increments (`on`), or
@@ -1384,7 +1315,7 @@ mod tests {
             },
         )
         .unwrap();
-        let a = plain.summary().cloned().unwrap();
+        let a = plain.outcome().cloned().unwrap();
         // Each straight run gives up at its first event: the stepper takes
         // the rest of it one increment at a time, from that event.
         let mut refused = stepper();
@@ -1402,13 +1333,13 @@ mod tests {
             },
         )
         .unwrap();
-        let b = refused.summary().cloned().unwrap();
+        let b = refused.outcome().cloned().unwrap();
         assert!(
             inside > 10,
             "{inside} of {steps} steps stopped inside an increment"
         );
         assert!(steps < refused.increments(), "{steps} steps");
-        assert_eq!((a.state, a.cycles), (b.state, b.cycles));
+        assert_eq!((a.state(), a.cycles), (b.state(), b.cycles));
         assert_eq!(plain.increments(), refused.increments());
         let rel = (a.dissipation - b.dissipation).abs() / a.dissipation;
         assert!(rel < 1e-9, "W {} vs {}", a.dissipation, b.dissipation);

@@ -631,7 +631,7 @@ impl App {
                 if let Status::Steady(s) = self.status() {
                     self.notice = Some(format!(
                         "already classified: {} after {} cycles",
-                        s.state.as_str(),
+                        s.state().as_str(),
                         s.cycles
                     ));
                 } else {
@@ -985,7 +985,7 @@ impl App {
         let slip = d.slip.clone();
         let state = match self.status() {
             Status::Running => "unclassified".to_string(),
-            Status::Steady(s) | Status::Ended(s) => s.state.as_str().to_string(),
+            Status::Steady(s) | Status::Ended(s) => s.state().as_str().to_string(),
         };
         let label = format!(
             "lambda {} phi {} {}",
@@ -1138,7 +1138,7 @@ impl App {
         if let Status::Ended(s) = self.status() {
             self.notice = Some(format!(
                 "the run has ended ({}); r to rerun, or change lambda, phi or the path",
-                s.state.as_str()
+                s.state().as_str()
             ));
             return false;
         }
@@ -1419,7 +1419,7 @@ impl App {
                     self.notice = Some(match (goal, self.status()) {
                         (Goal::Steady, Status::Steady(s) | Status::Ended(s)) => format!(
                             "steady state: {} after {} cycles",
-                            s.state.as_str(),
+                            s.state().as_str(),
                             s.cycles
                         ),
                         (Goal::TransientEnd, _) => "end of the transient".into(),
@@ -1444,7 +1444,7 @@ impl App {
                 self.running = false;
                 self.goal = None;
                 if let Status::Ended(s) | Status::Steady(s) = self.status() {
-                    self.notice = Some(format!("the run ended: {}", s.state.as_str()));
+                    self.notice = Some(format!("the run ended: {}", s.state().as_str()));
                 }
             }
             Stopped::Failed(text) => {

@@ -11,7 +11,7 @@ use std::f64::consts::PI;
 use super::format::{format_sci, plural};
 use crate::analysis::episodes::ThetaRange;
 use crate::contact::SlipDirection;
-use crate::stepping::{slip_zones, Event, ZoneChange};
+use crate::stepping::{slip_zones, Event, GrossSlip, Separation, ZoneChange};
 
 /// The kinds of events the log lists and the filters choose from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -251,12 +251,12 @@ pub fn entries(events: &[Event], at: At, directions: &[SlipDirection]) -> Vec<Lo
                 None,
                 format!(
                     "classified: {} after {} cycles ({})",
-                    s.state.as_str(),
+                    s.state().as_str(),
                     s.cycles,
-                    s.approach
+                    s.approach()
                 ),
             )),
-            Event::GrossSlip { load, time } => {
+            Event::GrossSlip(GrossSlip { load, time }) => {
                 let mut e = entry(
                     EventKind::State,
                     0,
@@ -271,7 +271,7 @@ pub fn entries(events: &[Event], at: At, directions: &[SlipDirection]) -> Vec<Lo
                 e.time = time.or(e.time);
                 out.push(e);
             }
-            Event::Separation { load, time, theta } => {
+            Event::Separation(Separation { load, time, theta }) => {
                 let mut e = entry(
                     EventKind::State,
                     0,

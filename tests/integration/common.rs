@@ -166,8 +166,8 @@ pub fn fake_rows(
     source: &shakedown::tui::sweep::SweepSource,
 ) -> Vec<shakedown::analysis::sweep::Row> {
     use shakedown::analysis::sweep::{Row, RunError};
-    use shakedown::stepping::steady::{Approach, SteadyState};
-    use shakedown::stepping::{StepError, Summary};
+    use shakedown::stepping::steady::SteadyState;
+    use shakedown::stepping::StepError;
     let jobs = source.spec.jobs();
     let n = jobs.len();
     jobs.into_iter()
@@ -180,22 +180,12 @@ pub fn fake_rows(
                     bisections: 8,
                 }))
             } else {
-                Ok(Summary {
-                    state,
-                    approach: Approach::Converged,
-                    dissipation: if state == SteadyState::Shakedown {
-                        0.0
-                    } else {
-                        1e-3 * job.load_factor * (1 + job.initial) as f64
-                    },
-                    cycles: 3 + job.index,
-                    rotation_per_cycle: 0.0,
-                    terminal_load: None,
-                    terminal_time: None,
-                    terminal_theta: None,
-                    trend: None,
-                    certificate: None,
-                })
+                let dissipation = if state == SteadyState::Shakedown {
+                    0.0
+                } else {
+                    1e-3 * job.load_factor * (1 + job.initial) as f64
+                };
+                Ok(fake_outcome(state, dissipation, 3 + job.index))
             };
             Row {
                 job,
@@ -223,4 +213,36 @@ pub fn tiny_regime_source() -> shakedown::tui::regime::RegimeSource {
         vec![0.0, std::f64::consts::FRAC_PI_2],
     )
     .expect("a valid tiny grid")
+}
+
+/// A made-up outcome of `state` for the front ends' tests (no physics):
+/// the 0.01 % rule for the steady states, a gross slip at `(1, 2pi)` in
+/// the transient.
+pub fn fake_outcome(
+    state: shakedown::SteadyState,
+    dissipation: f64,
+    cycles: usize,
+) -> shakedown::Outcome {
+    use shakedown::stepping::{GrossSlip, Separation, ShakedownProof};
+    use shakedown::{LoadPoint, SteadyState, Verdict};
+    let load = LoadPoint::new(1.0, 2.0 * std::f64::consts::PI);
+    let verdict = match state {
+        SteadyState::Shakedown => Verdict::Shakedown(ShakedownProof::NoSlipCycle),
+        SteadyState::CyclicSlip => Verdict::CyclicSlip,
+        SteadyState::RatchettingMonotonic => Verdict::Ratchetting { monotonic: true },
+        SteadyState::RatchettingNonMonotonic => Verdict::Ratchetting { monotonic: false },
+        SteadyState::GrossSlip => Verdict::GrossSlip(GrossSlip { load, time: None }),
+        SteadyState::Separation => Verdict::Separation(Separation {
+            load,
+            time: None,
+            theta: 0.0,
+        }),
+        SteadyState::NotConverged => Verdict::NotConverged { trend: None },
+    };
+    shakedown::Outcome {
+        verdict,
+        dissipation,
+        cycles,
+        rotation_per_cycle: 0.0,
+    }
 }

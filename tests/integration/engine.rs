@@ -263,7 +263,7 @@ fn straight_cycles_do_not_depend_on_the_increment_count() {
         s.run_to_steady().unwrap()
     };
     let (a, b) = (run(100), run(700));
-    assert_eq!(a.state, b.state);
+    assert_eq!(a.state(), b.state());
     assert!(
         (a.dissipation - b.dissipation).abs() < 1e-9 * a.dissipation,
         "{} vs {}",
@@ -288,7 +288,7 @@ fn just_below_the_torque_limit_is_not_gross_slip() {
         StepOptions::default(),
     );
     let summary = s.run_to_steady().unwrap();
-    assert_ne!(summary.state, SteadyState::GrossSlip, "{summary:?}");
+    assert_ne!(summary.state(), SteadyState::GrossSlip, "{summary:?}");
     // Just above it, gross slip at |y| = 2 pi.
     let mut s = Stepper::new(
         Material::paper(),
@@ -298,8 +298,8 @@ fn just_below_the_torque_limit_is_not_gross_slip() {
         StepOptions::default(),
     );
     let summary = s.run_to_steady().unwrap();
-    assert_eq!(summary.state, SteadyState::GrossSlip);
-    let load = summary.terminal_load.unwrap();
+    assert_eq!(summary.state(), SteadyState::GrossSlip);
+    let load = summary.terminal_load().unwrap();
     assert!((load.y() - 2.0 * PI).abs() < 1e-14, "{load}");
 }
 
@@ -316,10 +316,10 @@ fn terminal_time_and_load_are_the_same_instant() {
         StepOptions::default(),
     );
     let summary = s.run_to_steady().unwrap();
-    assert_eq!(summary.state, SteadyState::Separation);
+    assert_eq!(summary.state(), SteadyState::Separation);
     let (t, load) = (
-        summary.terminal_time.unwrap(),
-        summary.terminal_load.unwrap(),
+        summary.terminal_time().unwrap(),
+        summary.terminal_load().unwrap(),
     );
     // The load point lies on the chord of the increment containing t, at
     // the fraction of t within it.
@@ -453,7 +453,7 @@ fn a_stepper_paused_at_events_reaches_the_same_steady_state() {
             }
         }
         (
-            s.summary().cloned().unwrap(),
+            s.outcome().cloned().unwrap(),
             partial,
             whole,
             s.increments(),
@@ -464,7 +464,7 @@ fn a_stepper_paused_at_events_reaches_the_same_steady_state() {
     assert_eq!(p0, 0);
     assert!(p1 > 0, "no pause at all");
     assert_eq!((w0, i0), (w1, i1), "the same increments");
-    assert_eq!(plain.state, paused.state);
+    assert_eq!(plain.state(), paused.state());
     assert_eq!(plain.cycles, paused.cycles);
     let rel = (plain.dissipation - paused.dissipation).abs() / plain.dissipation;
     assert!(
@@ -505,7 +505,7 @@ fn a_reused_report_says_what_a_fresh_one_says() {
         }));
         steps += 1;
     }
-    assert_eq!(reused.summary(), fresh.summary());
+    assert_eq!(reused.outcome(), fresh.outcome());
     // The comparison covered reports whose events carry node lists.
     assert!(with_nodes > 10, "{with_nodes} steps with slip events");
 }
@@ -519,7 +519,7 @@ fn stepped(
     steps: usize,
     straight: bool,
 ) -> (
-    shakedown::Summary,
+    shakedown::Outcome,
     usize,
     Vec<(bool, Vec<usize>, Option<f64>, LoadPoint)>,
     usize,
@@ -551,7 +551,7 @@ fn stepped(
         Control::Continue
     })
     .unwrap();
-    (s.summary().cloned().unwrap(), s.increments(), events, taken)
+    (s.outcome().cloned().unwrap(), s.increments(), events, taken)
 }
 
 /// The same events, in the same order, at the same instant and load point
@@ -578,8 +578,8 @@ fn a_straight_run_of_increments_taken_at_once_meets_the_same_events() {
     let cycle = Cycle::paper(5.5, 0.0).unwrap();
     let (one, i1, e1, steps1) = stepped(cycle, 200, false);
     let (run, i2, e2, steps2) = stepped(cycle, 200, true);
-    assert_eq!(one.state, SteadyState::CyclicSlip);
-    assert_eq!((one.state, one.cycles), (run.state, run.cycles));
+    assert_eq!(one.state(), SteadyState::CyclicSlip);
+    assert_eq!((one.state(), one.cycles), (run.state(), run.cycles));
     assert_eq!(i1, i2, "the same increments");
     let rel = (one.dissipation - run.dissipation).abs() / one.dissipation;
     assert!(rel < 1e-9, "W {} vs {}", one.dissipation, run.dissipation);
@@ -597,7 +597,7 @@ fn only_straight_runs_are_taken_at_once() {
     let cycle = Cycle::paper(5.5, 0.0).unwrap();
     let (one, i1, e1, _) = stepped(cycle, 201, false);
     let (run, i2, e2, steps2) = stepped(cycle, 201, true);
-    assert_eq!((one.state, one.cycles, i1), (run.state, run.cycles, i2));
+    assert_eq!((one.state(), one.cycles, i1), (run.state(), run.cycles, i2));
     same_events(&e1, &e2);
     assert!(steps2 <= 4 * run.cycles + 10, "{steps2} steps");
     // An ellipse (phi = pi/2) has no two chords in line: one increment a
@@ -605,7 +605,7 @@ fn only_straight_runs_are_taken_at_once() {
     let cycle = Cycle::paper(5.5, 0.5 * PI).unwrap();
     let (one, i1, e1, steps1) = stepped(cycle, 200, false);
     let (run, i2, e2, steps2) = stepped(cycle, 200, true);
-    assert_eq!((one.state, one.cycles, i1), (run.state, run.cycles, i2));
+    assert_eq!((one.state(), one.cycles, i1), (run.state(), run.cycles, i2));
     let rel = (one.dissipation - run.dissipation).abs() / one.dissipation;
     assert!(rel < 1e-9, "W {} vs {}", one.dissipation, run.dissipation);
     same_events(&e1, &e2);

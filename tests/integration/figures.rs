@@ -200,7 +200,7 @@ fn holds(zone: (usize, usize), n: usize, theta: f64) -> bool {
 fn fig5_point_b_slips_back_and_forth() {
     let map = map_of(7.0, 0.0);
     assert_eq!(
-        map.summary.state,
+        map.outcome.state(),
         shakedown::stepping::steady::SteadyState::RatchettingNonMonotonic
     );
     let dirs: Vec<SlipDirection> = map.rows.iter().flat_map(|r| r.directions.clone()).collect();
@@ -211,7 +211,7 @@ fn fig5_point_b_slips_back_and_forth() {
 fn fig7_point_c_one_zone_splits_travels_and_merges() {
     let map = map_of(5.1, 0.5 * PI);
     assert_eq!(
-        map.summary.state,
+        map.outcome.state(),
         shakedown::stepping::steady::SteadyState::RatchettingMonotonic
     );
     let n = map.nodes;

@@ -4,7 +4,7 @@
 
 use shakedown::analysis::case::{Case, CaseParams};
 use shakedown::stepping::steady::SETTLE_CYCLES;
-use shakedown::{Status, Stepper, Summary};
+use shakedown::{Outcome, Status, Stepper};
 
 fn stepper(load_factor: f64, initial: &str, max_cycles: usize) -> Stepper {
     let params = CaseParams {
@@ -20,7 +20,7 @@ fn stepper(load_factor: f64, initial: &str, max_cycles: usize) -> Stepper {
 
 /// Run to the verdict cycle by cycle, trimming to `keep` after each cycle
 /// when `keep` is given; then `extra` more cycles past it.
-fn run(mut s: Stepper, keep: Option<usize>, extra: usize) -> (Summary, Stepper) {
+fn run(mut s: Stepper, keep: Option<usize>, extra: usize) -> (Outcome, Stepper) {
     while matches!(s.status(), Status::Running) {
         s.run_to_cycle_end().unwrap();
         if let Some(k) = keep {
@@ -33,7 +33,7 @@ fn run(mut s: Stepper, keep: Option<usize>, extra: usize) -> (Summary, Stepper) 
             s.trim_history(k);
         }
     }
-    (s.summary().unwrap().clone(), s)
+    (s.outcome().unwrap().clone(), s)
 }
 
 #[test]

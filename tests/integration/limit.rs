@@ -13,7 +13,7 @@ use shakedown::analysis::sweep::SweepSpec;
 use shakedown::model::path::Initial;
 use shakedown::model::{Discretisation, LoadPoint, Material};
 use shakedown::stepping::steady::SteadyState;
-use shakedown::stepping::{StepOptions, Summary};
+use shakedown::stepping::{Outcome, StepOptions};
 
 const NODES: usize = 64;
 const STEPS: usize = 200;
@@ -30,7 +30,7 @@ fn limit(phase: f64) -> Limit {
     .unwrap()
 }
 
-fn run_optimal(lambda: f64, phase: f64) -> Summary {
+fn run_optimal(lambda: f64, phase: f64) -> Outcome {
     let params = CaseParams {
         load_factor: lambda,
         phase,
@@ -51,11 +51,11 @@ fn optimal_slip_shakes_down_below_lambda_2_and_slips_above_in_phase() {
     let l = limit(0.0);
     assert!(l.line);
     let below = run_optimal(l.load_factor - 0.05, 0.0);
-    assert_eq!(below.state, SteadyState::Shakedown, "{below:?}");
+    assert_eq!(below.state(), SteadyState::Shakedown, "{below:?}");
     // The optimal slip holds on the whole cycle: not a single increment slips.
     assert_eq!(below.cycles, 1, "{below:?}");
     let above = run_optimal(l.load_factor + 0.05, 0.0);
-    assert_ne!(above.state, SteadyState::Shakedown, "{above:?}");
+    assert_ne!(above.state(), SteadyState::Shakedown, "{above:?}");
     assert!(above.dissipation > 0.0, "{above:?}");
 }
 
@@ -66,10 +66,10 @@ fn optimal_slip_shakes_down_below_lambda_2_and_slips_above_out_of_phase() {
     // The sampled optimum brackets the true limit of the ellipse.
     assert!(l.load_factor - l.lower_bound < 0.05);
     let below = run_optimal(l.lower_bound - 0.05, 0.5 * PI);
-    assert_eq!(below.state, SteadyState::Shakedown, "{below:?}");
+    assert_eq!(below.state(), SteadyState::Shakedown, "{below:?}");
     assert_eq!(below.cycles, 1, "{below:?}");
     let above = run_optimal(l.load_factor + 0.05, 0.5 * PI);
-    assert_ne!(above.state, SteadyState::Shakedown, "{above:?}");
+    assert_ne!(above.state(), SteadyState::Shakedown, "{above:?}");
 }
 
 #[test]
@@ -97,7 +97,7 @@ fn lambda_2_lies_right_of_every_transient_shakedown() {
     let rows = spec.run(&spec.jobs(), &|_| {}, &Default::default());
     let shaken: Vec<f64> = rows
         .iter()
-        .filter(|r| matches!(&r.outcome, Ok(s) if s.state == SteadyState::Shakedown))
+        .filter(|r| matches!(&r.outcome, Ok(s) if s.state() == SteadyState::Shakedown))
         .map(|r| r.job.load_factor)
         .collect();
     assert!(
@@ -137,7 +137,7 @@ fn a_phase_sweep_resolves_the_optimal_slip_per_phase() {
     let rows = spec.run(&spec.jobs(), &|_| {}, &Default::default());
     assert_eq!(rows.len(), 2);
     assert!(rows.iter().all(|r| r.initial == "optimal"));
-    let state = |k: usize| rows[k].outcome.as_ref().unwrap().state;
+    let state = |k: usize| rows[k].outcome.as_ref().unwrap().state();
     assert_ne!(state(0), SteadyState::Shakedown, "{:?}", rows[0]);
     assert_eq!(state(1), SteadyState::Shakedown, "{:?}", rows[1]);
 }
@@ -242,6 +242,6 @@ fn the_optimal_path_is_resolved_in_one_place() {
     .unwrap();
     let rows = spec.run(&spec.jobs(), &|_| {}, &Default::default());
     let swept = rows[0].outcome.as_ref().unwrap();
-    assert_eq!(swept.state, resolved.state);
+    assert_eq!(swept.state(), resolved.state());
     assert!((swept.dissipation - resolved.dissipation).abs() <= 1e-9 * resolved.dissipation);
 }

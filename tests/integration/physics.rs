@@ -17,7 +17,7 @@ fn run(
     initial: &Initial,
     nodes: usize,
     steps: usize,
-) -> shakedown::Summary {
+) -> shakedown::Outcome {
     let mut s = Stepper::new(
         Material::paper(),
         Discretisation::new(nodes, steps).unwrap(),
@@ -29,7 +29,7 @@ fn run(
 }
 
 fn state(load_factor: f64, phase: f64) -> SteadyState {
-    run(load_factor, phase, &Initial::Direct, 128, 400).state
+    run(load_factor, phase, &Initial::Direct, 128, 400).state()
 }
 
 /// Move a fresh contact along a straight path from `O` to `to` in small
@@ -86,8 +86,8 @@ fn gross_slip_between_7_36_and_7_46() {
 #[test]
 fn gross_slip_reports_a_load_point_on_the_torque_limit() {
     let s = run(7.5, 0.0, &Initial::Direct, 128, 400);
-    assert_eq!(s.state, SteadyState::GrossSlip);
-    let load = s.terminal_load.expect("gross slip reports where");
+    assert_eq!(s.state(), SteadyState::GrossSlip);
+    let load = s.terminal_load().expect("gross slip reports where");
     // The friction torque cannot exceed 2 pi f p0 a^2: |y| just above 2 pi.
     assert!(
         load.y().abs() > 2.0 * PI && load.y().abs() < 2.0 * PI + 0.2,
@@ -199,7 +199,7 @@ fn friction_law_and_balance_hold_after_every_increment() {
 fn dissipation_converges_with_the_grid() {
     // A ratchetting point: Fig. 8's monotonic range.
     let base = run(5.5, PI / 2.0, &Initial::Direct, 128, 400);
-    assert_eq!(base.state, SteadyState::RatchettingMonotonic);
+    assert_eq!(base.state(), SteadyState::RatchettingMonotonic);
     let nodes = run(5.5, PI / 2.0, &Initial::Direct, 256, 400);
     let steps = run(5.5, PI / 2.0, &Initial::Direct, 128, 800);
     for other in [nodes.dissipation, steps.dissipation] {
@@ -218,7 +218,7 @@ fn dissipation_converges_with_the_grid_up_to_1024_nodes() {
         .iter()
         .map(|&n| {
             let r = run(5.5, 0.0, &Initial::Direct, n, 400);
-            assert_eq!(r.state, SteadyState::CyclicSlip, "N = {n}");
+            assert_eq!(r.state(), SteadyState::CyclicSlip, "N = {n}");
             r.dissipation
         })
         .collect();
@@ -273,7 +273,7 @@ fn fig3_cyclic_slip_remembers_the_transient_and_ratchetting_forgets_it() {
     };
     for r in &cyclic {
         assert_eq!(
-            r.outcome.as_ref().unwrap().state,
+            r.outcome.as_ref().unwrap().state(),
             SteadyState::CyclicSlip,
             "{}",
             r.initial
@@ -290,7 +290,7 @@ fn fig3_cyclic_slip_remembers_the_transient_and_ratchetting_forgets_it() {
 
     for r in &ratchet {
         assert!(
-            r.outcome.as_ref().unwrap().state.is_ratchetting(),
+            r.outcome.as_ref().unwrap().state().is_ratchetting(),
             "{}",
             r.initial
         );
@@ -310,7 +310,7 @@ fn fig3_shakedown_at_small_load_factor_for_every_transient() {
     let rows = fig3_sweep(vec![3.5]);
     for r in rows {
         assert_eq!(
-            r.outcome.unwrap().state,
+            r.outcome.unwrap().state(),
             SteadyState::Shakedown,
             "{}",
             r.initial

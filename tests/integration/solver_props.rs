@@ -320,17 +320,17 @@ proptest! {
             let mean_q = c.shear().iter().sum::<f64>() / n as f64;
             prop_assert!((mean_q + torque / (2.0 * PI)).abs() <= 1e-10 * (1.0 + torque.abs()));
         }
-        let summary = s.summary().cloned();
+        let summary = s.outcome().cloned();
         match escape {
             Some(_) => {
                 let summary = summary.expect("an escape ends the run");
                 prop_assert!(
-                    matches!(summary.state, SteadyState::GrossSlip | SteadyState::Separation),
+                    matches!(summary.state(), SteadyState::GrossSlip | SteadyState::Separation),
                     "{:?}", summary
                 );
-                prop_assert!(summary.terminal_load.is_some());
-                if summary.state == SteadyState::GrossSlip {
-                    let y = summary.terminal_load.unwrap().y().abs();
+                prop_assert!(summary.terminal_load().is_some());
+                if summary.state() == SteadyState::GrossSlip {
+                    let y = summary.terminal_load().unwrap().y().abs();
                     prop_assert!(y > 2.0 * PI * (1.0 - 1e-9), "gross slip at |y| = {y}");
                 }
             }
@@ -338,10 +338,10 @@ proptest! {
                 if s.is_finished() {
                     // Only the separation a locked-in slip can bring forward.
                     let summary = summary.expect("finished");
-                    prop_assert_eq!(summary.state, SteadyState::Separation, "{:?}", summary);
+                    prop_assert_eq!(summary.state(), SteadyState::Separation, "{:?}", summary);
                 } else {
                     // The transient ended where it was meant to.
-                    prop_assert!(!s.history().is_empty() || s.summary().is_some());
+                    prop_assert!(!s.history().is_empty() || s.outcome().is_some());
                     prop_assert!(s.contact().load().distance(last) < 1e-9);
                 }
             }

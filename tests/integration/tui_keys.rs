@@ -173,7 +173,7 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
                 panic!("not steady: {:?}", app.status());
             };
             let notice = app.notice().unwrap_or_default();
-            assert!(notice.contains(summary.state.as_str()), "{notice}");
+            assert!(notice.contains(summary.state().as_str()), "{notice}");
             // Asking again says so instead of running on.
             handle(&mut app);
             assert_eq!(app.goal(), None);

@@ -13,8 +13,8 @@ use shakedown::analysis::case::Case;
 use shakedown::analysis::sweep::{Job, Row, RunError};
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::model::path::{segments, Initial};
-use shakedown::stepping::steady::{Approach, SteadyState};
-use shakedown::stepping::{StepError, Summary};
+use shakedown::stepping::steady::SteadyState;
+use shakedown::stepping::StepError;
 use shakedown::tui::app::{App, Config, View};
 use shakedown::tui::keys::{bindings_for, Action, Mode};
 use shakedown::tui::regime::{CurveState, RegimeSource};
@@ -81,22 +81,14 @@ fn fake_row(load_factor: f64, phase: f64, last: f64) -> Option<Row> {
             phase: "cycle 2".into(),
             bisections: 8,
         })),
-        Some(state) => Ok(Summary {
-            state,
-            approach: Approach::Converged,
-            dissipation: if state == SteadyState::Shakedown {
+        Some(state) => {
+            let dissipation = if state == SteadyState::Shakedown {
                 0.0
             } else {
                 1e-4 * (1.0 + over.max(0.0)).powi(4)
-            },
-            cycles: 5,
-            rotation_per_cycle: 0.0,
-            terminal_load: None,
-            terminal_time: None,
-            terminal_theta: None,
-            trend: None,
-            certificate: None,
-        }),
+            };
+            Ok(crate::common::fake_outcome(state, dissipation, 5))
+        }
     };
     Some(Row {
         job,

@@ -11,8 +11,8 @@ use std::f64::consts::PI;
 use rayon::prelude::*;
 use shakedown::stepping::steady::assess;
 use shakedown::{
-    Approach, Convergence, Cycle, CycleRecord, Discretisation, Initial, Material, SteadyState,
-    StepOptions, Stepper, Summary,
+    Approach, Convergence, Cycle, CycleRecord, Discretisation, Initial, Material, Outcome,
+    SteadyState, StepOptions, Stepper,
 };
 
 /// Runs taken far beyond the default verdict.
@@ -49,7 +49,7 @@ fn paper_sweep(
 }
 
 /// A run at the defaults.
-fn run(load_factor: f64, phase: f64, initial: &str) -> Summary {
+fn run(load_factor: f64, phase: f64, initial: &str) -> Outcome {
     stepper(load_factor, phase, initial, Convergence::default())
         .run_to_steady()
         .unwrap()
@@ -69,8 +69,8 @@ fn fig6_ratchetting_that_looked_like_shakedown() {
     // W falls to 1.1e-5 in 33 cycles, then levels off at 7.49e-6 with a
     // rotation of -2.6e-5 a cycle (the independent run-out).
     let s = run(5.1, 0.375 * PI, "-5,5");
-    assert_eq!(s.state, SteadyState::RatchettingMonotonic, "{s:?}");
-    assert_eq!(s.approach, Approach::Converged);
+    assert_eq!(s.state(), SteadyState::RatchettingMonotonic, "{s:?}");
+    assert_eq!(s.approach(), Approach::Converged);
     assert!((s.dissipation / 7.49e-6 - 1.0).abs() < 2e-3, "{s:?}");
     assert!((s.rotation_per_cycle / -2.6e-5 - 1.0).abs() < 2e-2, "{s:?}");
 }
@@ -79,8 +79,8 @@ fn fig6_ratchetting_that_looked_like_shakedown() {
 fn fig3_cyclic_slip_at_a_tiny_level() {
     // W halves each cycle for ten cycles, then levels off at 6.8e-9.
     let s = run(4.74, 0.0, "3,-7");
-    assert_eq!(s.state, SteadyState::CyclicSlip, "{s:?}");
-    assert_eq!(s.approach, Approach::Converged);
+    assert_eq!(s.state(), SteadyState::CyclicSlip, "{s:?}");
+    assert_eq!(s.approach(), Approach::Converged);
     assert!((s.dissipation / 6.8136e-9 - 1.0).abs() < 1e-3, "{s:?}");
 }
 
@@ -90,17 +90,21 @@ fn fig8_sharp_transition_at_half_pi() {
     // without slip comes after some hundreds of cycles), monotonic
     // ratchetting just above.
     let below = run(5.01, PI / 2.0, "OA");
-    assert_eq!(below.state, SteadyState::Shakedown, "{below:?}");
-    assert_eq!(below.approach, Approach::SafeState);
+    assert_eq!(below.state(), SteadyState::Shakedown, "{below:?}");
+    assert_eq!(below.approach(), Approach::SafeState);
     assert_eq!(below.dissipation, 0.0);
     let c = below
-        .certificate
+        .certificate()
         .expect("a safe-state verdict carries its proof");
     assert!(c.margin > c.coupling * c.distance, "{c:?}");
     assert!(c.last_dissipation > 0.0 && c.cycle == below.cycles, "{c:?}");
     assert!(below.cycles < 200, "{below:?}");
     let above = run(5.02, PI / 2.0, "OA");
-    assert_eq!(above.state, SteadyState::RatchettingMonotonic, "{above:?}");
+    assert_eq!(
+        above.state(),
+        SteadyState::RatchettingMonotonic,
+        "{above:?}"
+    );
     assert!(above.dissipation > 1e-6 && above.rotation_per_cycle.abs() > 1e-6);
 }
 
@@ -112,10 +116,10 @@ fn a_smooth_safe_state_is_found_by_the_quick_search() {
     // 2) finds it; its proof is checked here from the certificate, and the
     // state against the run taken out to its cycle without slip.
     let proven = run(4.5, 0.0, "7,-7");
-    assert_eq!(proven.state, SteadyState::Shakedown, "{proven:?}");
-    assert_eq!(proven.approach, Approach::SafeState, "{proven:?}");
+    assert_eq!(proven.state(), SteadyState::Shakedown, "{proven:?}");
+    assert_eq!(proven.approach(), Approach::SafeState, "{proven:?}");
     let c = proven
-        .certificate
+        .certificate()
         .expect("a safe-state verdict carries its proof");
     assert!(c.margin - c.coupling * c.distance > 1e-9, "{c:?}");
     assert!(
@@ -135,8 +139,8 @@ fn a_smooth_safe_state_is_found_by_the_quick_search() {
         },
     );
     let run_out = s.run_to_steady().unwrap();
-    assert_eq!(run_out.state, SteadyState::Shakedown, "{run_out:?}");
-    assert_eq!(run_out.approach, Approach::NoSlipCycle, "{run_out:?}");
+    assert_eq!(run_out.state(), SteadyState::Shakedown, "{run_out:?}");
+    assert_eq!(run_out.approach(), Approach::NoSlipCycle, "{run_out:?}");
     assert!(run_out.cycles > 40, "{run_out:?}");
     // The slip still to come is within the bound the certificate states.
     let to_come: f64 = s.history()[c.cycle..]
@@ -169,8 +173,8 @@ fn a_quick_search_goes_on_from_an_unsettled_first_round() {
     let swept = rows[0].outcome.as_ref().unwrap();
     let alone = run(3.25, 0.0, "7,-7");
     for s in [swept, &alone] {
-        assert_eq!(s.state, SteadyState::Shakedown, "{s:?}");
-        assert_eq!(s.approach, Approach::SafeState, "{s:?}");
+        assert_eq!(s.state(), SteadyState::Shakedown, "{s:?}");
+        assert_eq!(s.approach(), Approach::SafeState, "{s:?}");
         assert!(s.cycles <= 4, "{s:?}");
     }
 }
@@ -190,8 +194,8 @@ fn the_cap_is_not_converged_with_a_trend() {
     )
     .run_to_steady()
     .unwrap();
-    assert_eq!(s.state, SteadyState::NotConverged, "{s:?}");
-    assert_eq!(s.approach, Approach::Cap);
+    assert_eq!(s.state(), SteadyState::NotConverged, "{s:?}");
+    assert_eq!(s.approach(), Approach::Cap);
     assert_eq!(s.cycles, 60);
     assert!(s.dissipation > 0.0);
     let t = s.trend.expect("a trend at the cap");
@@ -241,15 +245,15 @@ fn fig6_boundary_runs_agree_with_runs_taken_to_2000_cycles() {
         let (cycles, state, approach) = verdict.expect("the defaults end before the reference");
         report.push(format!(
             "phi = {k} pi/48, {initial}: without safe states {state} ({approach}, {cycles} cycles), defaults {} ({}, {} cycles), reference {} ({}, {} cycles)",
-            defaults.state, defaults.approach, defaults.cycles,
-            reference.state, reference.approach, reference.cycles
+            defaults.state(), defaults.approach(), defaults.cycles,
+            reference.state(), reference.approach(), reference.cycles
         ));
         // The defaults (safe states on) agree with the run-out reference,
         // and a safe state never ends a run later than the run-out.
-        assert_eq!(defaults.state, reference.state, "{report:#?}");
+        assert_eq!(defaults.state(), reference.state(), "{report:#?}");
         assert!(defaults.cycles <= reference.cycles, "{report:#?}");
-        if defaults.approach == Approach::SafeState {
-            assert_eq!(reference.approach, Approach::NoSlipCycle, "{report:#?}");
+        if defaults.approach() == Approach::SafeState {
+            assert_eq!(reference.approach(), Approach::NoSlipCycle, "{report:#?}");
         } else {
             assert_eq!(
                 defaults.dissipation,
@@ -258,11 +262,11 @@ fn fig6_boundary_runs_agree_with_runs_taken_to_2000_cycles() {
             );
         }
         assert_ne!(
-            reference.state,
+            reference.state(),
             SteadyState::NotConverged,
             "the reference runs reach a verdict: {report:?}"
         );
-        assert_eq!(state, reference.state, "{report:#?}");
+        assert_eq!(state, reference.state(), "{report:#?}");
         if state != SteadyState::Shakedown {
             let w = history[cycles - 1].dissipation;
             assert!(
@@ -291,7 +295,7 @@ fn fig6_ratchetting_forgets_the_transient() {
             .map(|r| {
                 let s = r.outcome.as_ref().unwrap();
                 assert_eq!(
-                    s.state,
+                    s.state(),
                     SteadyState::RatchettingMonotonic,
                     "phi = {phase}, {}",
                     r.initial

@@ -44,7 +44,7 @@ fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Them
     let (load_x, load_y) = app.shown().map_or((0.0, 0.0), |r| r.load);
     // Where gross slip (or separation) ended the run, when it did.
     let terminal = match app.status() {
-        crate::stepping::Status::Ended(s) => s.terminal_load.map(|p| (p.x(), p.y())),
+        crate::stepping::Status::Ended(s) => s.terminal_load().map(|p| (p.x(), p.y())),
         _ => None,
     };
     let selected = match app.case().initial {

@@ -90,16 +90,16 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
     let (state, state_style) = match app.status() {
         Status::Running => ("unclassified".to_string(), theme.label()),
         Status::Steady(s) if wide => (
-            format!("{} (cycle {})", s.state.as_str(), s.cycles),
+            format!("{} (cycle {})", s.state().as_str(), s.cycles),
             theme.alert(),
         ),
-        Status::Steady(s) => (s.state.as_str().to_string(), theme.alert()),
+        Status::Steady(s) => (s.state().as_str().to_string(), theme.alert()),
         Status::Ended(s) => {
             let at = s
-                .terminal_load
+                .terminal_load()
                 .map(|p| format!(" at ({:.2}, {:.2})", p.x(), p.y()))
                 .unwrap_or_default();
-            (format!("{}{at}", s.state.as_str()), theme.error())
+            (format!("{}{at}", s.state().as_str()), theme.error())
         }
     };
     let mut line2 = Line::from(vec![label(where_label), value(where_value)]);

@@ -383,7 +383,7 @@ fn render_details(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
                 Span::styled("not run yet", theme.dim()),
             ])),
             Some(Ok(s)) => {
-                let (glyph, color, name) = marker(RowState::Steady(s.state));
+                let (glyph, color, name) = marker(RowState::Steady(s.state()));
                 lines.push(Line::from(vec![
                     label("state"),
                     Span::styled(format!("{glyph} "), theme.fg(color)),
