@@ -43,7 +43,7 @@ use crate::contact::Operators;
 use crate::model::path::{Initial, PathError};
 use crate::model::{Cycle, LoadPoint, Material, ParamError};
 use crate::stepping::steady::SteadyState;
-use crate::stepping::{operators, StepError, Stepper, Summary};
+use crate::stepping::{operators, StepError, Stepper, Outcome};
 
 /// The cost of a candidate whose run ended in gross slip or separation.
 pub const GROSS_COST: f64 = 1e3;
@@ -266,8 +266,8 @@ pub fn initial_path_text(path: &[LoadPoint]) -> String {
 }
 
 /// The cost of a run's verdict (module documentation).
-pub fn cost(summary: &Summary) -> f64 {
-    match summary.state {
+pub fn cost(summary: &Outcome) -> f64 {
+    match summary.state() {
         SteadyState::Shakedown => SHAKEDOWN_COST,
         SteadyState::GrossSlip | SteadyState::Separation => GROSS_COST,
         _ if summary.dissipation.is_finite() => summary.dissipation.max(0.0),
@@ -313,7 +313,7 @@ impl Runner {
     ///
     /// [`DesignError::Param`] for a bad `lambda`, [`DesignError::Step`] when
     /// the run fails.
-    pub fn run(&self, initial: &Initial, lambda: f64) -> Result<Summary, DesignError> {
+    pub fn run(&self, initial: &Initial, lambda: f64) -> Result<Outcome, DesignError> {
         let cycle = self.cycle(lambda)?;
         let c = &self.case;
         let mut s = Stepper::with_operators(
@@ -333,7 +333,7 @@ impl Runner {
     ///
     /// As [`Runner::run`], and [`DesignError::Path`] for a path outside the
     /// admissible region.
-    pub fn run_path(&self, path: &[LoadPoint], lambda: f64) -> Result<Summary, DesignError> {
+    pub fn run_path(&self, path: &[LoadPoint], lambda: f64) -> Result<Outcome, DesignError> {
         let initial = Initial::custom_for(path.to_vec(), &self.case.material)?;
         self.run(&initial, lambda)
     }
@@ -354,13 +354,13 @@ pub fn path_limit(
     hi: f64,
     tol: f64,
 ) -> Result<Option<f64>, DesignError> {
-    if runner.run(initial, lo)?.state != SteadyState::Shakedown {
+    if runner.run(initial, lo)?.state() != SteadyState::Shakedown {
         return Ok(None);
     }
     let (mut lo, mut hi) = (lo, hi);
     while hi - lo > tol {
         let mid = 0.5 * (lo + hi);
-        if runner.run(initial, mid)?.state == SteadyState::Shakedown {
+        if runner.run(initial, mid)?.state() == SteadyState::Shakedown {
             lo = mid;
         } else {
             hi = mid;
@@ -399,7 +399,7 @@ pub struct Candidate {
     /// The vertices `P1 ... PK`.
     pub path: Vec<LoadPoint>,
     /// The run's verdict at the search's `lambda`.
-    pub summary: Summary,
+    pub summary: Outcome,
     /// [`cost`] of the summary.
     pub cost: f64,
 }
@@ -407,7 +407,7 @@ pub struct Candidate {
 impl Candidate {
     /// Whether the candidate shakes down.
     pub fn shakes_down(&self) -> bool {
-        self.summary.state == SteadyState::Shakedown
+        self.summary.state() == SteadyState::Shakedown
     }
 }
 

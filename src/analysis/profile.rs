@@ -16,7 +16,7 @@ use std::f64::consts::PI;
 use serde::Serialize;
 
 use crate::stepping::steady::SteadyState;
-use crate::stepping::Summary;
+use crate::stepping::Outcome;
 use crate::stepping::{drive, Control, Goal, Observer, Phase, StepError, StepReport, Stepper};
 
 /// Per node `theta_j`, over one cycle: the fretting quantities of model.md
@@ -216,13 +216,13 @@ impl Observer for ProfileObserver {
 /// # Errors
 ///
 /// A numerical failure of an increment.
-pub fn profile_run(stepper: &mut Stepper) -> Result<(Summary, Option<Profile>), StepError> {
+pub fn profile_run(stepper: &mut Stepper) -> Result<(Outcome, Option<Profile>), StepError> {
     stepper.set_straight_runs(false);
     stepper.set_pause_at_events(true);
     stepper.set_zone_events(false);
     let mut observer = ProfileObserver::new(stepper);
     let summary = loop {
-        if let Some(summary) = stepper.summary() {
+        if let Some(summary) = stepper.outcome() {
             break summary.clone();
         }
         drive(stepper, Goal::Steady, &mut observer)?;
@@ -231,7 +231,7 @@ pub fn profile_run(stepper: &mut Stepper) -> Result<(Summary, Option<Profile>), 
     let mut profile = observer.into_last();
     // Shakedown is the statement that the steady cycle does not slip (a
     // proof, section 6.4, when the last cycle run still slipped a little).
-    if summary.state == SteadyState::Shakedown {
+    if summary.state() == SteadyState::Shakedown {
         if let Some(p) = profile.as_mut() {
             for col in [
                 &mut p.slip_amplitude,
@@ -259,7 +259,7 @@ mod tests {
         initial: &str,
         nodes: usize,
         steps: usize,
-    ) -> (Summary, Profile, f64) {
+    ) -> (Outcome, Profile, f64) {
         let disc = Discretisation::new(nodes, steps).unwrap();
         let initial = Initial::parse(initial).unwrap();
         let mut stepper = Stepper::new(
@@ -330,7 +330,7 @@ mod tests {
     #[test]
     fn shakedown_has_no_slip() {
         let (summary, profile, _) = run(1.0, 0.0, "OA", 32, 100);
-        assert_eq!(summary.state, SteadyState::Shakedown);
+        assert_eq!(summary.state(), SteadyState::Shakedown);
         for col in [
             &profile.slip_amplitude,
             &profile.slip_accumulated,

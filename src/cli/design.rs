@@ -21,7 +21,7 @@ use shakedown::io::csv::case_metadata;
 use shakedown::io::design::{frontier_csv, frontier_line};
 use shakedown::io::output::{check_folder, is_nonempty_file, OutputLock};
 use shakedown::stepping::steady::{Approach, SteadyState};
-use shakedown::stepping::Summary;
+use shakedown::stepping::Outcome;
 
 use super::batch::{ctrl_c, lock_file_output, print_stdout, refuse_input_as_output, write_file};
 use super::{CaseArgs, InputError};
@@ -240,7 +240,7 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
     flags.initial_path = Some(text.clone());
     let (_, again) = flags.case(base)?;
     let rerun = again.stepper().run_to_steady()?;
-    let reproduced = rerun.state == best.summary.state
+    let reproduced = rerun.state == best.summary.state()
         && rerun.dissipation.to_bits() == best.summary.dissipation.to_bits();
     let out = if args.json {
         format!(
@@ -276,7 +276,7 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
     if !reproduced {
         return Err(anyhow!(
             "the designed path did not reproduce its state through run ({} then {}): please report this",
-            best.summary.state,
+            best.summary.state(),
             rerun.state
         ));
     }
@@ -293,7 +293,7 @@ fn to_json(
     shape: Shape,
     budget: Budget,
     best: &Candidate,
-    rerun: &Summary,
+    rerun: &Outcome,
     text: &str,
     reproduced: bool,
     evaluations: usize,
@@ -343,7 +343,7 @@ fn readable(
     shape: Shape,
     budget: Budget,
     best: &Candidate,
-    rerun: &Summary,
+    rerun: &Outcome,
     text: &str,
     reproduced: bool,
     evaluations: usize,

@@ -5,7 +5,7 @@ use std::fmt::Write;
 
 use crate::analysis::case::Case;
 use crate::analysis::profile::Profile;
-use crate::stepping::Summary;
+use crate::stepping::Outcome;
 
 use super::csv::case_metadata;
 
@@ -15,9 +15,9 @@ pub const PROFILE_HEADER: &str =
 
 /// The profile of `case` (started on `initial`), with the verdict it came
 /// to, as CSV text: metadata, the column header, one row per node.
-pub fn profile_csv(case: &Case, initial: &str, summary: &Summary, profile: &Profile) -> String {
+pub fn profile_csv(case: &Case, initial: &str, summary: &Outcome, profile: &Profile) -> String {
     let mut m = case_metadata("profile", case, initial);
-    m.push("state", summary.state)
+    m.push("state", summary.state())
         .push("cycle", profile.cycle)
         .push("dissipation", profile.total_dissipation());
     let mut out = m.preamble(PROFILE_HEADER);

@@ -27,7 +27,7 @@ impl SweepPoint {
     /// The point of a finished run.
     pub fn from_row(r: &Row) -> SweepPoint {
         let (state, dissipation) = match &r.outcome {
-            Ok(s) => (Some(s.state), s.dissipation),
+            Ok(s) => (Some(s.state()), s.dissipation),
             Err(_) => (None, f64::NAN),
         };
         SweepPoint {
