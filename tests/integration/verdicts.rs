@@ -198,7 +198,7 @@ fn the_cap_is_not_converged_with_a_trend() {
     assert_eq!(s.approach(), Approach::Cap);
     assert_eq!(s.cycles, 60);
     assert!(s.dissipation > 0.0);
-    let t = s.trend.expect("a trend at the cap");
+    let t = *s.trend().expect("a trend at the cap");
     assert_eq!(t.last, s.dissipation);
     assert!(t.exponent > 1.0, "{t:?}");
     // A power-law decay: the limit (0) lies within the stated uncertainty.
