@@ -560,12 +560,17 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
             dir.display()
         )))
     })?;
-    let (csv_path, svg, png) = (
+    let style: shakedown::figure::FigureStyle = args
+        .style
+        .parse()
+        .map_err(|e| anyhow!(InputError(format!("--style {}: {e}", args.style))))?;
+    let (csv_path, svg, png, caption) = (
         dir.join("design.csv"),
         dir.join("design.svg"),
         dir.join("design.png"),
+        dir.join("design.caption.txt"),
     );
-    let mut files = vec![&svg, &png];
+    let mut files = vec![&svg, &png, &caption];
     if args.from.is_none() {
         files.push(&csv_path);
     }
@@ -636,8 +641,15 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
             meta.get("steps").unwrap_or("?"),
             meta.get("phi").unwrap_or("?")
         ),
+        show_title: args.title,
+        style,
     };
-    shakedown::figure::write_svg_png(&plot, &svg, &png).map_err(|e| anyhow!(e))?;
-    eprintln!("wrote {} and {}", svg.display(), png.display());
+    super::figure::write_plot(&plot, &svg, &png)?;
+    eprintln!(
+        "wrote {}, {} and {}",
+        svg.display(),
+        png.display(),
+        svg.with_extension("caption.txt").display()
+    );
     Ok(ExitCode::SUCCESS)
 }

@@ -101,7 +101,7 @@ const SUFFIXES: [&str; 6] = [
 
 /// Draw the plot into temporary files beside `svg` and `png`, then rename
 /// them into place: an interrupted or failed drawing leaves the old ones.
-fn write_plot<D: Drawing>(plot: &D, svg: &Path, png: &Path) -> Result<()> {
+pub(super) fn write_plot<D: Drawing>(plot: &D, svg: &Path, png: &Path) -> Result<()> {
     // The caption a journal prints under the figure, beside it.
     let caption = svg.with_extension("caption.txt");
     write(&caption, &(plot.caption() + "\n"))?;

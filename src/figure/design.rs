@@ -11,13 +11,14 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::style::{
-    font, legend, line_sample, padded, pi_label, s, Drawing, Pattern, GREY, LIGHT_GREY, PALETTE,
+    padded, pi_label, s, Drawing, FigureStyle, Key, Pattern, Pen, Sample, GREY, LIGHT_GREY, PALETTE,
 };
 use crate::io::design::FrontierRecord;
 use crate::model::path::Initial;
 use crate::model::LoadPoint;
 
 /// The frontier table of `design --frontier`, drawn.
+
 pub struct DesignPlot<'a> {
     /// The rows of the table.
     pub rows: &'a [FrontierRecord],
@@ -26,8 +27,13 @@ pub struct DesignPlot<'a> {
     /// The slope `psi` of the load line (the cycle of the best path is drawn
     /// for `phi = 0`).
     pub slope: f64,
-    /// The plot title.
+    /// What the figure shows (its caption; drawn on it only with
+    /// `show_title`).
     pub title: String,
+    /// Draw the title on the figure (`--title`).
+    pub show_title: bool,
+    /// Where the figure goes (`--style`).
+    pub style: FigureStyle,
 }
 
 impl DesignPlot<'_> {
@@ -52,7 +58,11 @@ impl DesignPlot<'_> {
             .reduce(|a, b| if b.lambda > a.lambda { b } else { a })
     }
 
-    fn frontier<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), String> {
+    fn frontier<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String> {
         let kmax = self
             .rows
             .iter()
@@ -65,11 +75,12 @@ impl DesignPlot<'_> {
             lambdas.clone().fold(f64::MAX, f64::min),
             lambdas.fold(f64::MIN, f64::max),
         );
+        let f = pen.text_pt();
         let mut chart = ChartBuilder::on(area)
-            .caption("highest λ at which a found path shakes down", font(17.0))
-            .margin(14)
-            .x_label_area_size(44)
-            .y_label_area_size(64)
+            .margin(pen.px(0.8 * f))
+            .margin_right(pen.px(1.6 * f))
+            .x_label_area_size(pen.px(2.9 * f))
+            .y_label_area_size(pen.px(4.0 * f))
             .build_cartesian_2d(0.5..kmax + 0.5, y0..y1)
             .map_err(s)?;
         chart
@@ -79,38 +90,25 @@ impl DesignPlot<'_> {
             .y_desc("λ")
             .x_labels(kmax as usize)
             .x_label_formatter(&|v| format!("{v:.0}"))
-            .axis_desc_style(font(17.0))
-            .label_style(font(14.0))
+            .axis_desc_style(pen.text())
+            .label_style(pen.tick())
+            .axis_style(pen.line(BLACK, 1.0))
+            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
-        for (k, (name, label)) in [
-            ("lambda_2", "λ₂ (optimal slip, LP)"),
-            ("best_of_25", "best of the paper's 25"),
-            ("lambda_1", "λ₁ (all 25 shake down)"),
-        ]
-        .into_iter()
-        .enumerate()
-        {
+        for (k, (name, _)) in Self::REFS.into_iter().enumerate() {
             let Some(r) = self.reference(name) else {
                 continue;
             };
-            let style = GREY.stroke_width(1 + (k == 1) as u32);
-            let pattern = [Pattern::Dashed, Pattern::Solid, Pattern::Dotted][k];
+            let style = pen.line(GREY, Self::REF_WIDTH[k]);
+            let pattern = Self::REF_PATTERN[k];
             pattern.draw(
                 &mut chart,
                 vec![(0.5, r.lambda), (kmax + 0.5, r.lambda)],
                 style,
             )?;
-            chart
-                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                .map_err(s)?
-                .label(format!("{label} = {:.4}", r.lambda))
-                .legend(move |c| line_sample!(pattern, c, style));
         }
-        for (k, (name, label)) in [("free", "free vertices"), ("decaying", "decaying zig-zag")]
-            .into_iter()
-            .enumerate()
-        {
+        for (k, (name, _)) in Self::FAMILIES.into_iter().enumerate() {
             let pts: Vec<(f64, f64)> = self
                 .family(name)
                 .iter()
@@ -120,24 +118,22 @@ impl DesignPlot<'_> {
                 continue;
             }
             let colour = PALETTE[k];
-            let style = colour.stroke_width(2);
             chart
-                .draw_series(LineSeries::new(pts.clone(), style))
-                .map_err(s)?
-                .label(label)
-                .legend(move |c| {
-                    EmptyElement::at(c)
-                        + PathElement::new(vec![(-12, 0), (12, 0)], style)
-                        + Circle::new((0, 0), 4, colour.filled())
-                });
+                .draw_series(LineSeries::new(pts.clone(), pen.line(colour, 2.0)))
+                .map_err(s)?;
+            let r = pen.mark(1.0);
             chart
-                .draw_series(pts.iter().map(|&p| Circle::new(p, 4, colour.filled())))
+                .draw_series(pts.iter().map(|&p| Circle::new(p, r, colour.filled())))
                 .map_err(s)?;
         }
-        legend(&mut chart, SeriesLabelPosition::LowerRight)
+        Ok(())
     }
 
-    fn plane<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<(), String> {
+    fn plane<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String> {
         let two_pi = 2.0 * PI;
         let xr = self
             .rows
@@ -145,11 +141,12 @@ impl DesignPlot<'_> {
             .flat_map(|r| r.path.iter().map(|p| p.x().abs()))
             .fold(two_pi, f64::max)
             * 1.05;
+        let f = pen.text_pt();
         let mut chart = ChartBuilder::on(area)
-            .caption("the best paths on the load plane", font(17.0))
-            .margin(14)
-            .x_label_area_size(44)
-            .y_label_area_size(64)
+            .margin(pen.px(0.8 * f))
+            .margin_right(pen.px(1.6 * f))
+            .x_label_area_size(pen.px(2.9 * f))
+            .y_label_area_size(pen.px(4.0 * f))
             .build_cartesian_2d(-xr..xr, -1.1 * two_pi..1.1 * two_pi)
             .map_err(s)?;
         chart
@@ -159,8 +156,10 @@ impl DesignPlot<'_> {
             .y_desc("y (torque)")
             .x_label_formatter(&|v| pi_label(&(v / PI)))
             .y_label_formatter(&|v| pi_label(&(v / PI)))
-            .axis_desc_style(font(17.0))
-            .label_style(font(13.0))
+            .axis_desc_style(pen.text())
+            .label_style(pen.tick())
+            .axis_style(pen.line(BLACK, 1.0))
+            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
         let diamond = vec![
@@ -175,23 +174,11 @@ impl DesignPlot<'_> {
                 diamond.clone(),
                 LIGHT_GREY.mix(0.4).filled(),
             )))
-            .map_err(s)?
-            .label("initial stick |x| + |y| ≤ 2π")
-            .legend(|c| {
-                Rectangle::new(
-                    [(c.0 - 8, c.1 - 5), (c.0 + 8, c.1 + 5)],
-                    LIGHT_GREY.filled(),
-                )
-            });
-        let gross = GREY.stroke_width(1);
+            .map_err(s)?;
+        let gross = pen.line(GREY, 1.0);
         for y in [two_pi, -two_pi] {
             Pattern::Dashed.draw(&mut chart, vec![(-xr, y), (xr, y)], gross)?;
         }
-        chart
-            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-            .map_err(s)?
-            .label("gross slip |y| = 2π")
-            .legend(move |c| line_sample!(Pattern::Dashed, c, gross));
         let a = (self.center.x(), self.center.y());
         let turning: Vec<(f64, f64)> = Initial::paper_set()
             .iter()
@@ -205,11 +192,9 @@ impl DesignPlot<'_> {
             .draw_series(
                 turning
                     .iter()
-                    .map(|&p| Cross::new(p, 4, GREY.stroke_width(1))),
+                    .map(|&p| Cross::new(p, pen.mark(1.0), pen.line(GREY, 1.0))),
             )
-            .map_err(s)?
-            .label("the paper's 24 turning points (and OA)")
-            .legend(|c| Cross::new(c, 4, GREY.stroke_width(1)));
+            .map_err(s)?;
         for (k, name) in ["free", "decaying"].into_iter().enumerate() {
             let Some(best) = self.best(name) else {
                 continue;
@@ -218,73 +203,151 @@ impl DesignPlot<'_> {
             pts.extend(best.path.iter().map(|p| (p.x(), p.y())));
             pts.push(a);
             let colour = PALETTE[k];
-            let style = colour.stroke_width(2);
             chart
-                .draw_series(LineSeries::new(pts.clone(), style))
-                .map_err(s)?
-                .label(format!(
-                    "{name}, K = {}: shakes down at λ = {:.4}",
-                    best.vertices.unwrap_or(0),
-                    best.lambda
-                ))
-                .legend(move |c| {
-                    EmptyElement::at(c) + PathElement::new(vec![(-12, 0), (12, 0)], style)
-                });
+                .draw_series(LineSeries::new(pts.clone(), pen.line(colour, 2.0)))
+                .map_err(s)?;
+            let r = pen.mark(0.8);
             chart
                 .draw_series(
                     pts[1..pts.len() - 1]
                         .iter()
-                        .map(|&p| Circle::new(p, 3, colour.filled())),
+                        .map(|&p| Circle::new(p, r, colour.filled())),
                 )
                 .map_err(s)?;
         }
         // The steady cycle of the best path (phi = 0: a segment through A).
-        if let Some(l) = self
-            .rows
+        if let Some(l) = self.best_lambda() {
+            let n = (1.0 + self.slope * self.slope).sqrt();
+            let (dx, dy) = (l / n, l * self.slope / n);
+            chart
+                .draw_series(LineSeries::new(
+                    vec![(a.0 - dx, a.1 - dy), (a.0 + dx, a.1 + dy)],
+                    pen.line(BLACK, 3.0),
+                ))
+                .map_err(s)?;
+        }
+        chart
+            .draw_series([
+                Circle::new((0.0, 0.0), pen.mark(1.0), BLACK.filled()),
+                Circle::new(a, pen.mark(1.2), BLACK.filled()),
+            ])
+            .map_err(s)?;
+        chart
+            .draw_series([
+                Text::new("O", (0.15, -0.5), pen.text()),
+                Text::new("A", (a.0 + 0.15, a.1 - 0.5), pen.text()),
+            ])
+            .map_err(s)?;
+        Ok(())
+    }
+
+    /// The references drawn on the left: name, key label, pattern, width.
+    const REFS: [(&'static str, &'static str); 3] = [
+        ("lambda_2", "λ₂ (optimal slip, LP)"),
+        ("best_of_25", "best of the paper's 25"),
+        ("lambda_1", "λ₁ (all 25 shake down)"),
+    ];
+    const REF_PATTERN: [Pattern; 3] = [Pattern::Dashed, Pattern::Solid, Pattern::Dotted];
+    const REF_WIDTH: [f64; 3] = [1.0, 2.0, 1.0];
+    const FAMILIES: [(&'static str, &'static str); 2] =
+        [("free", "free vertices"), ("decaying", "decaying zig-zag")];
+
+    fn best_lambda(&self) -> Option<f64> {
+        self.rows
             .iter()
             .filter(|r| r.row == "frontier")
             .map(|r| r.lambda)
             .reduce(f64::max)
-        {
-            let n = (1.0 + self.slope * self.slope).sqrt();
-            let (dx, dy) = (l / n, l * self.slope / n);
-            let style = BLACK.stroke_width(3);
-            chart
-                .draw_series(LineSeries::new(
-                    vec![(a.0 - dx, a.1 - dy), (a.0 + dx, a.1 + dy)],
-                    style,
-                ))
-                .map_err(s)?
-                .label(format!("the cycle at λ = {l:.4} (φ = 0)"))
-                .legend(move |c| {
-                    EmptyElement::at(c) + PathElement::new(vec![(-12, 0), (12, 0)], style)
-                });
+    }
+
+    /// The key: only what the two panels show.
+    fn key(&self) -> Key {
+        let mut key = Key::default();
+        for (k, (name, label)) in Self::REFS.into_iter().enumerate() {
+            if let Some(r) = self.reference(name) {
+                key.push(
+                    Sample::Line(Self::REF_PATTERN[k], GREY, Self::REF_WIDTH[k]),
+                    format!("{label} = {:.4}", r.lambda),
+                );
+            }
         }
-        chart
-            .draw_series([
-                Circle::new((0.0, 0.0), 4, BLACK.filled()),
-                Circle::new(a, 5, BLACK.filled()),
-            ])
-            .map_err(s)?;
-        chart
-            .draw_series([
-                Text::new("O", (0.15, -0.5), font(15.0)),
-                Text::new("A", (a.0 + 0.15, a.1 - 0.5), font(15.0)),
-            ])
-            .map_err(s)?;
-        legend(&mut chart, SeriesLabelPosition::UpperLeft)
+        for (k, (name, label)) in Self::FAMILIES.into_iter().enumerate() {
+            if let Some(best) = self.best(name) {
+                key.push(
+                    Sample::Line(Pattern::Solid, PALETTE[k], 2.0),
+                    format!(
+                        "{label}; best K = {}: λ = {:.4}",
+                        best.vertices.unwrap_or(0),
+                        best.lambda
+                    ),
+                );
+            }
+        }
+        if let Some(l) = self.best_lambda() {
+            key.push(
+                Sample::Line(Pattern::Solid, BLACK, 3.0),
+                format!("the cycle at λ = {l:.4} (φ = 0)"),
+            );
+        }
+        key.push(Sample::Swatch(LIGHT_GREY), "initial stick |x| + |y| ≤ 2π");
+        key.push(
+            Sample::Line(Pattern::Dashed, GREY, 1.0),
+            "gross slip |y| = 2π",
+        );
+        key.push(Sample::Text, "×  the paper's 24 turning points");
+        key
+    }
+
+    fn panel_aspect(&self) -> f64 {
+        match self.style {
+            FigureStyle::Paper1Col => 1.6,
+            _ => 0.45,
+        }
     }
 }
 
 impl Drawing for DesignPlot<'_> {
-    fn size(&self) -> (u32, u32) {
-        (1500, 700)
+    fn style(&self) -> FigureStyle {
+        self.style
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        let root = root.titled(&self.title, font(20.0)).map_err(s)?;
-        let (left, right) = root.split_horizontally(700);
-        self.frontier(&left)?;
-        self.plane(&right)
+    fn aspect(&self) -> f64 {
+        let width = self.style.width_pt();
+        let title = if self.show_title {
+            2.0 * self.style.font_pt()
+        } else {
+            0.0
+        };
+        self.panel_aspect() + (self.key().height_pt(self.style, width) + title) / width
+    }
+
+    fn caption(&self) -> String {
+        let mut text = self.title.trim_end_matches('.').to_string();
+        text.push_str(". Left: the highest λ at which a found path O → P1 → … → PK → A shakes down, against its number of vertices K, per family, beside λ₁, the best of the paper's 25 transients and λ₂. Right: the best path of each family on the load plane, with the initial stick region, the gross-slip lines, the paper's 24 turning points (crosses) and the steady cycle at the highest λ found.");
+        text
+    }
+
+    fn title(&self) -> Option<&str> {
+        self.show_title.then_some(self.title.as_str())
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String> {
+        let key = self.key();
+        let (w, h) = root.dim_in_pixel();
+        let key_h = pen.px(key.height_pt(self.style, self.style.width_pt())) as u32;
+        let (plots, key_area) = root.split_vertically(h.saturating_sub(key_h));
+        key.draw(&key_area, pen)?;
+        // One column: the panels one above the other.
+        let (first, second) = if self.style == FigureStyle::Paper1Col {
+            plots.split_vertically(h.saturating_sub(key_h) / 2)
+        } else {
+            plots.split_horizontally(w / 2)
+        };
+        self.frontier(&first, pen)?;
+        self.plane(&second, pen)
     }
 }
