@@ -43,7 +43,7 @@ use crate::contact::Operators;
 use crate::model::path::{Initial, PathError};
 use crate::model::{Cycle, LoadPoint, Material, ParamError};
 use crate::stepping::steady::SteadyState;
-use crate::stepping::{operators, StepError, Stepper, Outcome};
+use crate::stepping::{operators, Outcome, StepError, Stepper};
 
 /// The cost of a candidate whose run ended in gross slip or separation.
 pub const GROSS_COST: f64 = 1e3;

@@ -223,7 +223,7 @@ pub fn profile_run(stepper: &mut Stepper) -> Result<(Outcome, Option<Profile>), 
     let mut observer = ProfileObserver::new(stepper);
     let summary = loop {
         if let Some(summary) = stepper.outcome() {
-            break summary.clone();
+            break *summary;
         }
         drive(stepper, Goal::Steady, &mut observer)?;
     };

@@ -240,7 +240,7 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
     flags.initial_path = Some(text.clone());
     let (_, again) = flags.case(base)?;
     let rerun = again.stepper().run_to_steady()?;
-    let reproduced = rerun.state == best.summary.state()
+    let reproduced = rerun.state() == best.summary.state()
         && rerun.dissipation.to_bits() == best.summary.dissipation.to_bits();
     let out = if args.json {
         format!(
@@ -277,7 +277,7 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
         return Err(anyhow!(
             "the designed path did not reproduce its state through run ({} then {}): please report this",
             best.summary.state(),
-            rerun.state
+            rerun.state()
         ));
     }
     if found.interrupted {
@@ -302,12 +302,12 @@ fn to_json(
     let path: Vec<[f64; 2]> = best.path.iter().map(|p| [p.x(), p.y()]).collect();
     json!({
         "initial_path": text,
-        "state": rerun.state,
+        "state": rerun.state(),
         "lambda": case.cycle.load_factor(),
         "dissipation": rerun.dissipation,
-        "approach": rerun.approach,
+        "approach": rerun.approach(),
         "cycles": rerun.cycles,
-        "certificate": rerun.certificate,
+        "certificate": rerun.certificate(),
         "reproduced": reproduced,
         "path": path,
         "family": shape.family,
@@ -388,7 +388,7 @@ fn readable(
         case.cycle.center().x(),
         case.cycle.center().y()
     );
-    let how = match rerun.approach {
+    let how = match rerun.approach() {
         Approach::NoSlipCycle => "a whole cycle without slip".to_string(),
         Approach::SafeState => "a safe state (certificate below)".to_string(),
         Approach::Converged => "W settled to 0.01 %".to_string(),
@@ -398,10 +398,11 @@ fn readable(
     let _ = writeln!(
         o,
         "state     {}  ({how}, cycle {})",
-        rerun.state, rerun.cycles
+        rerun.state(),
+        rerun.cycles
     );
     let _ = writeln!(o, "W         {:.6e}", rerun.dissipation);
-    match &rerun.certificate {
+    match rerun.certificate() {
         Some(c) => {
             let _ = writeln!(
                 o,
@@ -414,7 +415,7 @@ fn readable(
                 c.slip_bound
             );
         }
-        None if rerun.state == SteadyState::Shakedown => {
+        None if rerun.state() == SteadyState::Shakedown => {
             let _ = writeln!(
                 o,
                 "certificate  none needed: a whole cycle passed without slip, so every later cycle does"

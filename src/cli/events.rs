@@ -11,7 +11,7 @@ use shakedown::analysis::episodes::{EpisodeTracker, ThetaRange};
 use shakedown::io::csv::case_metadata;
 use shakedown::io::events::{events_csv, EventKind, EventRow};
 use shakedown::io::output::is_nonempty_file;
-use shakedown::stepping::{Event, Phase, Stepper, ZoneChange};
+use shakedown::stepping::{Event, GrossSlip, Phase, Separation, Stepper, ZoneChange};
 
 use super::batch::{lock_output, write_file};
 use super::{CaseArgs, InputError};
@@ -54,7 +54,7 @@ pub fn collect(s: &mut Stepper) -> Result<Vec<EventRow>> {
     let mut tracker = EpisodeTracker::new(s);
     let mut rows = Vec::new();
     let arc = |nodes: &[usize]| ThetaRange::of_nodes(nodes, n).map(|r| (r.from, r.to));
-    while s.summary().is_none() && !s.is_finished() {
+    while s.outcome().is_none() && !s.is_finished() {
         let cycle = cycle_of(s);
         let report = s.step()?;
         tracker.update(s.contact().slip(), s.contact().directions(), &report);
@@ -119,7 +119,7 @@ pub fn collect(s: &mut Stepper) -> Result<Vec<EventRow>> {
                     ..base
                 }),
                 Event::SteadyStateReached(_) => rows.push(EventRow { nodes: n, ..base }),
-                Event::GrossSlip { load, time } => rows.push(EventRow {
+                Event::GrossSlip(GrossSlip { load, time }) => rows.push(EventRow {
                     omega_t: *time,
                     x: load.x(),
                     y: load.y(),
@@ -127,7 +127,7 @@ pub fn collect(s: &mut Stepper) -> Result<Vec<EventRow>> {
                     nodes: n,
                     ..base
                 }),
-                Event::Separation { load, time, .. } => rows.push(EventRow {
+                Event::Separation(Separation { load, time, .. }) => rows.push(EventRow {
                     omega_t: *time,
                     x: load.x(),
                     y: load.y(),

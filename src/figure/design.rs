@@ -18,7 +18,6 @@ use crate::model::path::Initial;
 use crate::model::LoadPoint;
 
 /// The frontier table of `design --frontier`, drawn.
-
 pub struct DesignPlot<'a> {
     /// The rows of the table.
     pub rows: &'a [FrontierRecord],

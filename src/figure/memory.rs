@@ -8,6 +8,9 @@ use super::style::{
 };
 use crate::analysis::memory::{ratchetting_onset, MemoryPoint};
 
+/// Points of one curve, `(lambda, value)`.
+type Series = Vec<(f64, f64)>;
+
 /// `R` and `r` against `lambda` (Fig. 4).
 pub struct MemoryPlot<'a> {
     /// One point per `lambda`.
@@ -43,7 +46,7 @@ impl MemoryPlot<'_> {
             .collect()
     }
 
-    fn series(&self) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+    fn series(&self) -> (Series, Series) {
         let big_r = self
             .points
             .iter()

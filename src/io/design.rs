@@ -137,7 +137,7 @@ mod tests {
             path: vec![LoadPoint::new(-5.99, -6.19), LoadPoint::new(1.05, 3.39)],
             evaluations: 17,
         };
-        let back = read_frontier_csv(&frontier_csv(&refs, &[row.clone()])).unwrap();
+        let back = read_frontier_csv(&frontier_csv(&refs, std::slice::from_ref(&row))).unwrap();
         assert_eq!(back.len(), 4);
         assert_eq!(back[1].path, vec![refs.best_turning]);
         assert_eq!(back[3].path, row.path);

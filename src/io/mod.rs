@@ -6,8 +6,8 @@
 pub mod batch;
 pub mod csv;
 pub mod design;
-pub mod hash;
 pub mod events;
+pub mod hash;
 pub mod output;
 pub mod parse;
 pub mod preset;

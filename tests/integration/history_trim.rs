@@ -33,7 +33,7 @@ fn run(mut s: Stepper, keep: Option<usize>, extra: usize) -> (Outcome, Stepper) 
             s.trim_history(k);
         }
     }
-    (s.outcome().unwrap().clone(), s)
+    (*s.outcome().unwrap(), s)
 }
 
 #[test]
