@@ -786,7 +786,9 @@ impl LinearAxis {
             n
         };
         let top = n * step;
-        let e = top.log10().floor() as i32;
+        // The multiplier follows the data, not the top tick: 8.2e-4 reads
+        // as 8.2 x 10^-4 even when the axis ends at 1.0e-3.
+        let e = max.log10().floor() as i32;
         let exponent = if !(-2..4).contains(&e) { e } else { 0 };
         LinearAxis {
             top,

@@ -520,7 +520,8 @@ mod tests {
             for r in [a.load_plane, a.slip_map, a.tractions, a.slip, a.dissipation] {
                 assert!(r.width >= 20 && r.height >= 8, "{w}x{h}: {r:?}");
             }
-            assert_eq!(a.status.height, 3);
+            // Three status lines and the footer of the view's keys.
+            assert_eq!(a.status.height, 4);
         }
     }
 }
