@@ -22,11 +22,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for row in &rows {
         match &row.outcome {
             Ok(o) => println!(
-                "{:>6}  {:>7}  {:<26} {:>12.4e}",
+                "{:>6}  {:>7}  {:<26} {:>12}",
                 row.job.load_factor,
                 row.initial,
                 o.state().as_str(),
-                o.dissipation
+                readable(o.dissipation)
             ),
             Err(e) => println!(
                 "{:>6}  {:>7}  failed: {e}",
@@ -35,4 +35,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
+}
+
+/// `W` as a person reads it: a plain 0 where nothing slips (shakedown), four
+/// significant figures otherwise.
+fn readable(w: f64) -> String {
+    if w == 0.0 {
+        "0".to_string()
+    } else {
+        format!("{w:.3e}")
+    }
 }

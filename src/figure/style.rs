@@ -226,6 +226,13 @@ fn draw_err(file: &Path, message: impl std::fmt::Display) -> FigureError {
 
 /// Draw `d` on `root` with `pen`: its title when it has one, then the
 /// figure.
+/// `text` with every control character replaced by a space.
+pub(crate) fn printable(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect()
+}
+
 fn draw_on<D: Drawing, DB: DrawingBackend>(
     d: &D,
     root: &DrawingArea<DB, Shift>,
@@ -234,7 +241,11 @@ fn draw_on<D: Drawing, DB: DrawingBackend>(
     root.fill(&WHITE).map_err(s)?;
     match d.title() {
         Some(t) if !t.is_empty() => {
-            let titled = root.titled(t, pen.font(pen.text_pt() * 1.35)).map_err(s)?;
+            // XML 1.0 has no place for control characters (plotters escapes
+            // `<`, `>` and `&` but passes them through), so a title from a
+            // preset or a flag would make an SVG that is not well-formed.
+            let t = printable(t);
+            let titled = root.titled(&t, pen.font(pen.text_pt() * 1.35)).map_err(s)?;
             d.draw(&titled, pen)
         }
         _ => d.draw(root, pen),
@@ -909,6 +920,11 @@ mod tests {
         assert_eq!(pi_label(&-0.75), "−3π/4");
         assert_eq!(pi_label(&2.5), "5π/2");
         assert_eq!(pi_label(&0.3), "0.30π");
+    }
+
+    #[test]
+    fn titles_lose_their_control_characters() {
+        assert_eq!(printable("a\u{7}b\nc <&>"), "a b c <&>");
     }
 
     #[test]
