@@ -854,24 +854,16 @@ impl App {
         let Ok(s) = &self.sweep else {
             return;
         };
-        let path = self
-            .save_dir
-            .join(format!("sweep-{}.csv", s.source().name))
-            .display()
-            .to_string();
-        let mut text = String::from(crate::analysis::sweep::CSV_HEADER);
-        text.push('\n');
-        for row in s.rows() {
-            text.push_str(&row.csv_line());
-            text.push('\n');
-        }
+        let path = self.save_dir.join(format!("sweep-{}.csv", s.source().name));
         let n = s.done();
-        match std::fs::write(&path, text) {
+        // Through sweep's own writer: metadata header, and create_new so an
+        // existing file (or a symlink) is never replaced.
+        match crate::io::csv::save_sweep_csv(&path, &s.source().spec, s.rows()) {
             Ok(()) => {
                 self.sweep_saved = !s.is_running();
-                self.notice = Some(format!("saved {n} runs to {path}"));
+                self.notice = Some(format!("saved {n} runs to {}", path.display()));
             }
-            Err(e) => self.notice = Some(format!("cannot save {path}: {e}")),
+            Err(e) => self.notice = Some(format!("not saved: {e}")),
         }
     }
 

@@ -120,7 +120,7 @@ pub enum Action {
     SweepNextRun,
     /// Sweep `w`: draw `W` on a log or a linear axis.
     SweepLogW,
-    /// Sweep `s`: save the map as `sweep-<preset>.csv`, as `sweep` writes it.
+    /// Sweep `s`: save the map as `sweep-<preset>.csv`, as `sweep` writes it (header included; an existing file is never replaced).
     SweepSave,
     /// Sweep Enter: open the run under the cursor in the stepping view.
     OpenRun,

@@ -354,6 +354,7 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
         }
         Action::SweepSave => {
             let dir = std::env::temp_dir().join(format!("shakedown-save-{}", std::process::id()));
+            let _ = std::fs::remove_dir_all(&dir);
             std::fs::create_dir_all(&dir).unwrap();
             app.set_save_dir(&dir);
             handle(&mut app);
@@ -366,7 +367,18 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
                 .unwrap()
                 .path();
             let text = std::fs::read_to_string(&name).unwrap();
-            assert!(text.starts_with(shakedown::analysis::sweep::CSV_HEADER));
+            // sweep's writer: the metadata header, then the column line.
+            assert!(text.starts_with('#'), "{text}");
+            assert!(
+                text.lines()
+                    .any(|l| l == shakedown::analysis::sweep::CSV_HEADER),
+                "{text}"
+            );
+            // A second save never replaces the file.
+            handle(&mut app);
+            let notice = app.notice().unwrap_or_default().to_string();
+            assert!(notice.starts_with("not saved"), "{notice}");
+            assert_eq!(std::fs::read_to_string(&name).unwrap(), text);
             let _ = std::fs::remove_dir_all(&dir);
         }
         Action::ToggleView => {
