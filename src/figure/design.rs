@@ -311,13 +311,8 @@ impl Drawing for DesignPlot<'_> {
     }
 
     fn aspect(&self) -> f64 {
-        let width = self.style.width_pt();
-        let title = if self.show_title {
-            2.0 * self.style.font_pt()
-        } else {
-            0.0
-        };
-        self.panel_aspect() + (self.key().height_pt(self.style, width) + title) / width
+        self.key()
+            .figure_aspect(self.style, self.panel_aspect(), self.show_title)
     }
 
     fn caption(&self) -> String {

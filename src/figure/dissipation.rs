@@ -260,14 +260,9 @@ impl Drawing for DissipationPlot<'_> {
     }
 
     fn aspect(&self) -> f64 {
-        let width = self.style.width_pt();
         let panels = if self.two_panels() { 2.0 } else { 1.0 };
-        let title = if self.show_title {
-            2.0 * self.style.font_pt()
-        } else {
-            0.0
-        };
-        panels * self.panel_aspect() + (self.key().height_pt(self.style, width) + title) / width
+        self.key()
+            .figure_aspect(self.style, panels * self.panel_aspect(), self.show_title)
     }
 
     fn caption(&self) -> String {

@@ -145,17 +145,11 @@ impl Drawing for RegimePlot<'_> {
     }
 
     fn aspect(&self) -> f64 {
-        let width = self.style.width_pt();
-        let title = if self.show_title {
-            2.0 * self.style.font_pt()
-        } else {
-            0.0
-        };
         let panel = match self.style {
             FigureStyle::Paper1Col => 0.8,
             _ => 0.6,
         };
-        panel + (self.key().height_pt(self.style, width) + title) / width
+        self.key().figure_aspect(self.style, panel, self.show_title)
     }
 
     fn caption(&self) -> String {

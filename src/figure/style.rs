@@ -629,6 +629,18 @@ impl Key {
         (cols, rows, width / cols as i32)
     }
 
+    /// Height over width of a figure whose panels are `panel` of its width
+    /// high, with this key below them and, when shown, a title above.
+    pub(crate) fn figure_aspect(&self, style: FigureStyle, panel: f64, show_title: bool) -> f64 {
+        let width = style.width_pt();
+        let title = if show_title {
+            2.0 * style.font_pt()
+        } else {
+            0.0
+        };
+        panel + (self.height_pt(style, width) + title) / width
+    }
+
     /// The height in points the key needs in a figure `width_pt` wide.
     pub(crate) fn height_pt(&self, pen_style: FigureStyle, width_pt: f64) -> f64 {
         if self.entries.is_empty() {
