@@ -34,7 +34,7 @@ pub struct DesignArgs {
     /// Vertices K of the path between O and A (1..16); with --frontier, the largest K (default 8).
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub vertices: Option<String>,
-    /// Seed of the search's random draws (the same seed and thread count give the same result).
+    /// Seed of the search's random draws (the same seed gives the same result, whatever the thread count).
     #[arg(
         long,
         value_name = "S",
