@@ -193,39 +193,11 @@ pub(super) fn same_directions(a: &[SlipDirection], b: &[SlipDirection]) -> bool 
 }
 
 /// The nodes at which two slip sets' directions differ, appended to `out`
-/// in node order. Chunks of 16 nodes are compared at once, as two 128-bit
-/// numbers, and the differing bytes of a chunk that differs give its
-/// nodes: an event changes a node or two of the `N`, and passes with a
-/// branch per node (here and in the set's update) were some 4 % of a
-/// sweep's instructions.
+/// in node order.
 pub(super) fn push_differences(a: &[SlipDirection], b: &[SlipDirection], out: &mut Vec<usize>) {
-    const CHUNK: usize = 16;
     debug_assert_eq!(a.len(), b.len());
-    let (xs, ys) = (a.chunks_exact(CHUNK), b.chunks_exact(CHUNK));
-    let (x_tail, y_tail) = (xs.remainder(), ys.remainder());
-    // A chunk's sixteen directions as the bytes of one number (one load).
-    let bytes = |s: &[SlipDirection]| {
-        let chunk: &[SlipDirection; CHUNK] = s.try_into().expect("a whole chunk");
-        u128::from_le_bytes(chunk.map(|d| d as u8))
-    };
-    for (c, (x, y)) in xs.zip(ys).enumerate() {
-        // The bytes that differ mark the nodes, in node order from the
-        // lowest (a loop over the sixteen nodes of a differing chunk, with
-        // a branch each, was most of this function's time).
-        let mut differ = bytes(x) ^ bytes(y);
-        while differ != 0 {
-            let i = (differ.trailing_zeros() / 8) as usize;
-            out.push(c * CHUNK + i);
-            differ &= !(0xff_u128 << (8 * i));
-        }
-    }
-    let from = a.len() - x_tail.len();
-    let differ = x_tail
-        .iter()
-        .zip(y_tail)
-        .enumerate()
-        .filter(|(_, (u, v))| u != v);
-    out.extend(differ.map(|(i, _)| from + i));
+    let differ = a.iter().zip(b).enumerate().filter(|(_, (x, y))| x != y);
+    out.extend(differ.map(|(j, _)| j));
 }
 
 /// `x` with `(-|D| - f diag(s) H)_SS x = rhs` for the slip set `set`
@@ -920,10 +892,9 @@ pub(super) mod tests {
             prop_assert_eq!(same_directions(&a, &b), a == b);
         }
 
-        /// The chunked differences are the nodes where the sets differ,
-        /// in node order, after what the list held: for sets that differ
-        /// at a few nodes (as at an event) and for unrelated sets, of any
-        /// length (whole chunks of 16 and a tail).
+        /// The differences are the nodes where the sets differ, in node
+        /// order, after what the list held: for sets that differ at a few
+        /// nodes (as at an event) and for unrelated sets, of any length.
         #[test]
         fn push_differences_lists_the_differing_nodes(
             a in proptest::collection::vec(direction(), 0..300),
