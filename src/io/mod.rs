@@ -8,6 +8,7 @@ pub mod csv;
 pub mod design;
 pub mod events;
 pub mod hash;
+pub mod memory_csv;
 pub mod output;
 pub mod parse;
 pub mod preset;
