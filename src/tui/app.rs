@@ -1178,6 +1178,10 @@ impl App {
     }
 
     fn change_phase(&mut self, sign: f64) {
+        if self.case.cycle.as_polyline().is_some() {
+            self.notice = Some("a polyline cycle (--cycle) has no phase".into());
+            return;
+        }
         let old = self.phase();
         let k = (old / PHASE_STEP).round();
         let mut new = if (old - k * PHASE_STEP).abs() < 1e-9 {
@@ -1198,8 +1202,7 @@ impl App {
     }
 
     fn change_cycle(&mut self, load_factor: f64, phase: f64, what: String) {
-        let c = &self.case.cycle;
-        match Cycle::new(c.center(), load_factor, c.slope(), phase) {
+        match self.cycle_at(load_factor, phase) {
             Ok(cycle) => {
                 self.case.cycle = cycle;
                 self.restart(&what);
@@ -1509,21 +1512,17 @@ impl App {
                         slip: Arc::new(l.slip.clone()),
                     }
                 }
-                _ => match Cycle::new(
-                    self.case.cycle.center(),
-                    job.load_factor,
-                    self.case.cycle.slope(),
-                    job.phase,
-                )
-                .map_err(|e| e.to_string())
-                .and_then(|c| {
-                    crate::analysis::limit::optimal_initial(
-                        &self.case.material,
-                        &c,
-                        &self.case.disc,
-                    )
+                _ => match self
+                    .cycle_at(job.load_factor, job.phase)
                     .map_err(|e| e.to_string())
-                }) {
+                    .and_then(|c| {
+                        crate::analysis::limit::optimal_initial(
+                            &self.case.material,
+                            &c,
+                            &self.case.disc,
+                        )
+                        .map_err(|e| e.to_string())
+                    }) {
                     Ok(i) => i,
                     Err(e) => {
                         self.notice = Some(format!("cannot open the optimal slip: {e}"));
@@ -1539,9 +1538,18 @@ impl App {
     /// Step the case `(lambda, phi)` with the transient `initial` (the
     /// explorer's model otherwise) in the stepping view, from the start:
     /// what Enter in the sweep view and in the regime map does.
-    fn open_case(&mut self, load_factor: f64, phase: f64, initial: Initial) {
+    /// The explorer's cycle at `load_factor` and `phase`: a polyline keeps
+    /// its shape (it has no phase).
+    fn cycle_at(&self, load_factor: f64, phase: f64) -> Result<Cycle, crate::model::ParamError> {
         let c = &self.case.cycle;
-        let cycle = match Cycle::new(c.center(), load_factor, c.slope(), phase) {
+        match c.as_polyline() {
+            Some(_) => c.with_load_factor(load_factor),
+            None => Cycle::new(c.center(), load_factor, c.slope(), phase),
+        }
+    }
+
+    fn open_case(&mut self, load_factor: f64, phase: f64, initial: Initial) {
+        let cycle = match self.cycle_at(load_factor, phase) {
             Ok(cycle) => cycle,
             Err(e) => {
                 self.notice = Some(e.to_string());
