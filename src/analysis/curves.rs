@@ -12,7 +12,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-use crate::analysis::limit::{shakedown_limit, Limit, LimitError, DEFAULT_SAMPLES};
+use crate::analysis::limit::{cycle_limit, shakedown_limit, Limit, LimitError, DEFAULT_SAMPLES};
 use crate::analysis::sweep::SweepSpec;
 use crate::model::path::Initial;
 use crate::model::{Cycle, Discretisation, Material};
@@ -83,14 +83,7 @@ pub fn resolve_initial(
     if let Some(limit) = known.filter(|l| l.slip.len() == disc.nodes()) {
         return Ok(optimal_from(limit));
     }
-    let limit = shakedown_limit(
-        material,
-        cycle.center(),
-        cycle.slope(),
-        cycle.phase(),
-        disc,
-        DEFAULT_SAMPLES,
-    )?;
+    let limit = cycle_limit(material, cycle, disc, DEFAULT_SAMPLES)?;
     Ok(optimal_from(&limit))
 }
 

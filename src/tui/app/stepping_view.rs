@@ -353,6 +353,10 @@ impl App {
     }
 
     pub(super) fn change_phase(&mut self, sign: f64) {
+        if self.case.cycle.as_polyline().is_some() {
+            self.notice = Some("a polyline cycle (--cycle) has no phase".into());
+            return;
+        }
         let old = self.phase();
         let k = (old / PHASE_STEP).round();
         let mut new = if (old - k * PHASE_STEP).abs() < 1e-9 {
@@ -373,8 +377,7 @@ impl App {
     }
 
     pub(super) fn change_cycle(&mut self, load_factor: f64, phase: f64, what: String) {
-        let c = &self.case.cycle;
-        match Cycle::new(c.center(), load_factor, c.slope(), phase) {
+        match self.cycle_at(load_factor, phase) {
             Ok(cycle) => {
                 self.case.cycle = cycle;
                 self.restart(&what);
@@ -422,12 +425,25 @@ impl App {
         self.notice = Some(format!("{why}: {from}"));
     }
 
+    /// The explorer's cycle at `load_factor` and `phase`: a polyline keeps
+    /// its shape (it has no phase).
+    pub(super) fn cycle_at(
+        &self,
+        load_factor: f64,
+        phase: f64,
+    ) -> Result<Cycle, crate::model::ParamError> {
+        let c = &self.case.cycle;
+        match c.as_polyline() {
+            Some(_) => c.with_load_factor(load_factor),
+            None => Cycle::new(c.center(), load_factor, c.slope(), phase),
+        }
+    }
+
     /// Step the case `(lambda, phi)` with the transient `initial` (the
     /// explorer's model otherwise) in the stepping view, from the start:
     /// what Enter in the sweep view and in the regime map does.
     pub(super) fn open_case(&mut self, load_factor: f64, phase: f64, initial: Initial) {
-        let c = &self.case.cycle;
-        let cycle = match Cycle::new(c.center(), load_factor, c.slope(), phase) {
+        let cycle = match self.cycle_at(load_factor, phase) {
             Ok(cycle) => cycle,
             Err(e) => {
                 self.notice = Some(e.to_string());
