@@ -145,8 +145,15 @@ impl App {
         true
     }
 
-    /// Start the tour at its first stop (`--tour`, or `T`).
+    /// Start the tour at its first stop (`--tour`, or `T`). Its stops are
+    /// the paper's elliptical cycles: a polyline cycle (`--cycle`) gives
+    /// way to the default case's cycle.
     pub fn start_tour(&mut self) {
+        if self.case.cycle.as_polyline().is_some() {
+            if let Ok(case) = Case::from_params(&crate::tui::default_params()) {
+                self.case.cycle = case.cycle;
+            }
+        }
         self.go_to_stop(0);
     }
 
@@ -198,7 +205,7 @@ impl App {
             }
             Scene::Compare { pinned, live } => {
                 self.open_named(pinned.0, pinned.1, pinned.2);
-                self.to_steady();
+                self.run_to_steady();
                 pending = Some(live);
             }
             Scene::Regime => {
@@ -229,7 +236,7 @@ impl App {
         }
     }
 
-    fn to_steady(&mut self) {
+    fn run_to_steady(&mut self) {
         self.running = false;
         self.cursor = None;
         self.goal = Some(Goal::Steady);
@@ -243,7 +250,7 @@ impl App {
         };
         self.pin();
         self.open_named(live.0, live.1, live.2);
-        self.to_steady();
+        self.run_to_steady();
         self.notice = Some("pinned the first run; the second runs to its steady state".into());
     }
 }
