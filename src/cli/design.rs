@@ -541,8 +541,13 @@ fn run_frontier(args: &DesignArgs, vertices: usize, budget: Budget, gap: f64) ->
     let base = args.case.base(CaseParams::default())?;
     let (_, case) = args.case.case(base)?;
     let _lock = prepare_out(args)?;
-    let (csv, interrupted) =
-        frontier_table(&case, vertices, budget, gap, &[Family::Free, Family::Decaying])?;
+    let (csv, interrupted) = frontier_table(
+        &case,
+        vertices,
+        budget,
+        gap,
+        &[Family::Free, Family::Decaying],
+    )?;
     print_stdout(&csv)?;
     if let Some(out) = &args.out {
         write_file("--out", out, csv.as_bytes())?;
@@ -555,7 +560,7 @@ fn run_frontier(args: &DesignArgs, vertices: usize, budget: Budget, gap: f64) ->
 }
 
 /// `figure design`: the frontier table (from `--from FILE.csv`, or made now
-/// with `K <= 4` and the frontier's default budget) drawn as design.svg and
+/// with `K <= 8`, as `design --frontier`, and the frontier's default budget) drawn as design.svg and
 /// design.png.
 pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
     use shakedown::figure::design::DesignPlot;
@@ -605,15 +610,14 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
     }
     let text = match &args.from {
         // A frontier table is a few rows: 1 MiB is far more than one can be.
-        Some(f) => shakedown::io::read::read_text_capped(f, 1 << 20).map_err(|e| {
-            anyhow!(InputError(format!("--from {}: {e}", f.display())))
-        })?,
+        Some(f) => shakedown::io::read::read_text_capped(f, 1 << 20)
+            .map_err(|e| anyhow!(InputError(format!("--from {}: {e}", f.display()))))?,
         None => {
             let base = args.model.apply(CaseParams::default())?;
             let case = Case::from_params(&base).map_err(|e| anyhow!(InputError(e.to_string())))?;
             let (csv, interrupted) = frontier_table(
                 &case,
-                4,
+                8,
                 Budget {
                     particles: 16,
                     iterations: 8,

@@ -343,4 +343,3 @@ impl Drawing for DesignPlot<'_> {
         self.plane(&second, pen)
     }
 }
-
