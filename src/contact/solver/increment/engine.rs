@@ -415,8 +415,8 @@ impl Engine {
         // ([`Self::totals`]) in the pass that unpacks the transform.
         self.reach[axis] = None;
         let elastic = [&self.epx[..], &self.epy, &self.eqx, &self.eqy];
-        ops.convolve_with(&self.full, fft, |bins| {
-            kernels::from_complex_totals(bins, [hp, hq], [tp, tq], u, elastic)
+        ops.convolve_with(&self.full, fft, |pairs| {
+            kernels::from_complex_totals(pairs, [hp, hq], [tp, tq], u, elastic)
         });
         // `full` is filled afresh before each use: hand its buffer over.
         std::mem::swap(g, &mut self.full);
