@@ -8,6 +8,7 @@ mod outcome;
 pub mod safe_state;
 pub mod steady;
 mod stepper;
+mod straight;
 pub mod verdict;
 mod zones;
 

@@ -11,6 +11,7 @@ use super::driver::{drive, Control, Driven, Goal, Silent};
 use super::outcome::{GrossSlip, Outcome, Separation, ShakedownProof, Verdict};
 use super::safe_state::{self, Certificate, Fall, SafeStateSearch};
 use super::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
+use super::straight::StraightRuns;
 use super::verdict::trend;
 use super::zones::{slip_zones, zone_changes, SlipZone, ZoneChange};
 use crate::contact::{
@@ -260,17 +261,8 @@ pub struct Stepper {
     /// Node lists of the events of reports handed back to
     /// [`Stepper::step_into`], emptied, for the next events to reuse.
     spare_nodes: Vec<Vec<usize>>,
-    /// Whether a step takes a whole straight run of increments
-    /// ([`Stepper::set_straight_runs`]).
-    straight: bool,
-    /// Increments the step under way takes: 1, or a straight run's.
-    span: usize,
-    /// The end of the straight run of the cycle from each increment, once
-    /// a step has started there (0 until then).
-    run_ends: Vec<usize>,
-    /// Increments of the current transient segment or cycle below this one
-    /// are taken one at a time: a straight run's step did not settle.
-    single_until: usize,
+    /// Whether and how far a step takes a straight run of increments.
+    runs: StraightRuns,
 }
 
 /// Set up the shared pieces of a run once.
@@ -382,10 +374,7 @@ impl Stepper {
             spare_nodes: Vec::new(),
             safe_state: None,
             safe_state_setup: None,
-            straight: false,
-            span: 1,
-            run_ends: vec![0; steps],
-            single_until: 0,
+            runs: StraightRuns::new(steps),
         }
     }
 
@@ -414,7 +403,7 @@ impl Stepper {
         let mut s = Self::with_operators(ops, material, disc, initial, dummy, options);
         s.zone_events = false;
         s.event_reports = false;
-        s.straight = true;
+        s.runs.on = true;
         // The dummy cycle starts at A, so the transient ends exactly there.
         drive(&mut s, Goal::TransientEnd, &mut Silent)?;
         if let Status::Ended(outcome) = s.status {
@@ -588,109 +577,26 @@ impl Stepper {
         match self.phase {
             Phase::Transient { .. } => None,
             Phase::Cycle { increment, .. } => {
-                let (m, r) = self.within_run(increment, s);
+                let (m, r) = self.runs.within(&self.cycle_points, increment, s);
                 Some(cycle_angle(m as f64 + r, self.disc.steps_per_cycle()))
             }
         }
-    }
-
-    /// The increment `m` of the cycle, and the parameter `r` in `[0, 1]` of
-    /// its chord, at parameter `s` of the step from `increment` (a straight
-    /// run of [`Self::span`] increments): where the run's chord passes
-    /// the same load point. One increment: `(increment, s)` itself.
-    fn within_run(&self, increment: usize, s: f64) -> (usize, f64) {
-        if self.span == 1 || s <= 0.0 {
-            return (increment, s);
-        }
-        let pts = &self.cycle_points[increment..=increment + self.span];
-        let (a, b) = (pts[0], pts[self.span]);
-        let (dx, dy) = (b.x() - a.x(), b.y() - a.y());
-        // Where vertex `m` of the run lies along its chord: 0 at the first,
-        // 1 at the last, increasing between (the run goes one way).
-        let along = |m: usize| {
-            if m == self.span {
-                1.0
-            } else {
-                let p = pts[m];
-                ((p.x() - a.x()) * dx + (p.y() - a.y()) * dy) / (dx * dx + dy * dy)
-            }
-        };
-        // The last vertex at or before `s`, by bisection.
-        let (mut lo, mut hi) = (0, self.span);
-        while hi - lo > 1 {
-            let mid = (lo + hi) / 2;
-            if along(mid) <= s {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        let (start, end) = (if lo == 0 { 0.0 } else { along(lo) }, along(lo + 1));
-        (
-            increment + lo,
-            ((s - start) / (end - start)).clamp(0.0, 1.0),
-        )
-    }
-
-    /// The end of the straight run of the cycle's increments from
-    /// `increment`: the last vertex `j` such that the vertices between lie
-    /// on the chord `increment -> j` to within the rounding of the load
-    /// points themselves (a few ulps), each chord going the same way. Along
-    /// such a run the polygon of the increments is that one chord, so a
-    /// step along it follows the same path, with fewer stops.
-    fn run_end(&mut self, increment: usize) -> usize {
-        let steps = self.disc.steps_per_cycle();
-        if self.run_ends[increment] != 0 {
-            return self.run_ends[increment];
-        }
-        let pts = &self.cycle_points;
-        let a = pts[increment];
-        let size = |p: LoadPoint| p.x().abs().max(p.y().abs());
-        // Off the chord `a -> b` by more than the rounding of the points.
-        let off = |p: LoadPoint, b: LoadPoint, scale: f64| {
-            let (dx, dy) = (b.x() - a.x(), b.y() - a.y());
-            ((p.x() - a.x()) * dy - (p.y() - a.y()) * dx).abs()
-                > 64.0 * f64::EPSILON * scale * dx.hypot(dy)
-        };
-        // Grow the run while each next vertex goes on the same way, in line
-        // with the run so far ...
-        let mut end = increment + 1;
-        let mut scale = size(a).max(size(pts[end]));
-        while end < steps {
-            let (last, b) = (pts[end], pts[end + 1]);
-            let forward =
-                (b.x() - last.x()) * (b.x() - a.x()) + (b.y() - last.y()) * (b.y() - a.y());
-            let wider = scale.max(size(b));
-            if forward <= 0.0 || off(b, last, wider) {
-                break;
-            }
-            scale = wider;
-            end += 1;
-        }
-        // ... then hold every vertex between to the whole chord, cutting
-        // the run at the first one off it (rarely, if ever: a slow drift).
-        while let Some(m) = (increment + 1..end).find(|&m| off(pts[m], pts[end], scale)) {
-            end = m;
-        }
-        self.run_ends[increment] = end;
-        end
     }
 
     /// Increments the next step takes: the rest of the transient segment
     /// or of the straight run of the cycle when [`Stepper::set_straight_runs`]
     /// asked for it, else 1.
     fn next_span(&mut self) -> usize {
-        if !self.straight || self.resume.is_some() || self.contact.pauses_at_events() {
+        if self.resume.is_some() || self.contact.pauses_at_events() {
             return 1;
         }
         match self.phase {
-            Phase::Transient { segment, increment } if increment >= self.single_until => {
-                self.transient[segment].increments - increment
+            Phase::Transient { segment, increment } => self
+                .runs
+                .span_in_segment(increment, self.transient[segment].increments),
+            Phase::Cycle { increment, .. } => {
+                self.runs.span_in_cycle(&self.cycle_points, increment)
             }
-            Phase::Cycle { increment, .. } if increment >= self.single_until => {
-                self.run_end(increment) - increment
-            }
-            _ => 1,
         }
     }
 
@@ -699,13 +605,13 @@ impl Stepper {
         match self.phase {
             Phase::Transient { segment, increment } => {
                 let seg = &self.transient[segment];
-                seg.at((increment as f64 + s * self.span as f64) / seg.increments as f64)
+                seg.at((increment as f64 + s * self.runs.span as f64) / seg.increments as f64)
             }
-            Phase::Cycle { increment, .. } if self.span > 1 => {
+            Phase::Cycle { increment, .. } if self.runs.span > 1 => {
                 // A straight run: its chord.
                 let (a, b) = (
                     self.cycle_points[increment],
-                    self.cycle_points[increment + self.span],
+                    self.cycle_points[increment + self.runs.span],
                 );
                 if s == 1.0 {
                     b
@@ -806,12 +712,12 @@ impl Stepper {
             return Ok(());
         }
         let events_before = report.events.len();
-        self.span = self.next_span();
+        self.runs.span = self.next_span();
         let start = self.resume.take().unwrap_or(0.0);
-        let result = if self.span > 1 {
+        let result = if self.runs.span > 1 {
             // A straight run: no bisection of it (a failure is taken one
             // increment at a time below).
-            self.contact.set_segment_increments(self.span);
+            self.contact.set_segment_increments(self.runs.span);
             let result = self.advance(start, 1.0, self.options.failure_bisections, report);
             self.contact.set_segment_increments(1);
             result
@@ -820,30 +726,30 @@ impl Stepper {
         };
         match result {
             Ok(Progress::Done) => {}
-            Err(ContactError::NotSettled { .. }) if self.span > 1 => {
+            Err(ContactError::NotSettled { .. }) if self.runs.span > 1 => {
                 // The rest of the run one increment at a time, from the
                 // increment where the contact stopped.
                 let reached = self.contact.last_increment().reached;
                 let (from, increment, r) = match self.phase {
                     Phase::Transient { increment, .. } => {
                         // Equal increments.
-                        let at = reached * self.span as f64;
-                        let m = (at.floor() as usize).min(self.span - 1);
+                        let at = reached * self.runs.span as f64;
+                        let m = (at.floor() as usize).min(self.runs.span - 1);
                         (increment, increment + m, at - m as f64)
                     }
                     Phase::Cycle { increment, .. } => {
-                        let (m, r) = self.within_run(increment, reached);
+                        let (m, r) = self.runs.within(&self.cycle_points, increment, reached);
                         (increment, m, r)
                     }
                 };
-                self.single_until = from + self.span;
+                self.runs.refuse_below(from + self.runs.span);
                 self.increments += increment - from;
                 match &mut self.phase {
                     Phase::Transient { increment: i, .. } | Phase::Cycle { increment: i, .. } => {
                         *i = increment
                     }
                 }
-                self.span = 1;
+                self.runs.span = 1;
                 self.resume = (r > 0.0).then_some(r.min(1.0));
                 self.after_increment(events_before, report);
                 return Ok(());
@@ -867,10 +773,10 @@ impl Stepper {
                 return Ok(());
             }
         }
-        self.increments += self.span;
+        self.increments += self.runs.span;
         self.after_increment(events_before, report);
         self.move_on(report);
-        self.span = 1;
+        self.runs.span = 1;
         Ok(())
     }
 
@@ -1030,7 +936,7 @@ impl Stepper {
     fn move_on(&mut self, report: &mut StepReport) {
         match self.phase {
             Phase::Transient { segment, increment } => {
-                let next = increment + self.span;
+                let next = increment + self.runs.span;
                 if next >= self.transient[segment].increments
                     && self.transient[segment].to == self.cycle.center()
                 {
@@ -1042,13 +948,13 @@ impl Stepper {
                         increment: next,
                     };
                 } else if segment + 1 < self.transient.len() {
-                    self.single_until = 0;
+                    self.runs.refuse_none();
                     self.phase = Phase::Transient {
                         segment: segment + 1,
                         increment: 0,
                     };
                 } else {
-                    self.single_until = 0;
+                    self.runs.refuse_none();
                     self.phase = Phase::Cycle {
                         cycle: 1,
                         increment: 0,
@@ -1058,7 +964,7 @@ impl Stepper {
                 }
             }
             Phase::Cycle { cycle, increment } => {
-                let next = increment + self.span;
+                let next = increment + self.runs.span;
                 if next < self.disc.steps_per_cycle() {
                     self.phase = Phase::Cycle {
                         cycle,
@@ -1088,7 +994,7 @@ impl Stepper {
             rotation: done.rotation,
         });
         self.history.push(done);
-        self.single_until = 0;
+        self.runs.refuse_none();
         self.phase = Phase::Cycle {
             cycle: cycle + 1,
             increment: 0,
@@ -1241,7 +1147,7 @@ impl Stepper {
     /// only the stops between events go. [`Stepper::run_to_steady`] takes
     /// straight runs.
     pub fn set_straight_runs(&mut self, on: bool) {
-        self.straight = on;
+        self.runs.on = on;
     }
 
     /// Report [`Event::SlipSetChanged`] at every change of the slip set
