@@ -916,18 +916,25 @@ fn read_slip_map_files(from: &Path) -> Result<SlipMap> {
     let load = load_file_of(from);
     // Sized by the header (nodes x rows, at most 2^26 cells as the reader
     // checks), then read through the checked reader: regular files only.
-    let head = from_header(from)?;
-    let count = |k: &str| head.get(k).and_then(|v| v.parse::<u64>().ok()).unwrap_or(0);
-    let cells = count("nodes").saturating_mul(count("rows")).min(1 << 26);
-    let map_cap = HEADER_BYTES + 64 * cells.max(1);
-    let load_cap = HEADER_BYTES + 160 * (count("rows").min(1 << 26) + 1);
     let bad = |file: &Path, e: &dyn std::fmt::Display| {
         anyhow!(InputError(format!(
             "--from {}: {e}",
             escape_text(&file.to_string_lossy(), 200)
         )))
     };
-    let map_text = read_text_capped(from, map_cap).map_err(|e| bad(from, &e))?;
+    let head_bytes =
+        shakedown::io::read::read_head(from, HEADER_BYTES).map_err(|e| bad(from, &e))?;
+    let head = Metadata::parse(&String::from_utf8_lossy(&head_bytes));
+    let count = |k: &str| head.get(k).and_then(|v| v.parse::<u64>().ok()).unwrap_or(0);
+    let cells = count("nodes").saturating_mul(count("rows")).min(1 << 26);
+    let map_cap = HEADER_BYTES + 64 * cells;
+    let load_cap = HEADER_BYTES + 160 * (count("rows").min(1 << 26) + 1);
+    // Without a slip map's header, its first bytes are enough to say so.
+    let map_text = if cells == 0 {
+        String::from_utf8_lossy(&head_bytes).into_owned()
+    } else {
+        read_text_capped(from, map_cap).map_err(|e| bad(from, &e))?
+    };
     let load_text = read_text_capped(&load, load_cap).map_err(|e| {
         bad(
             from,

@@ -1395,7 +1395,7 @@ fn figure_from_refuses_a_flag_against_its_model_and_a_partial_table() {
     refused_in(
         &dir,
         &["figure", "fig3", "--out", "re", "--partial"],
-        &["--partial", "--from"],
+        &["--from <FILE.csv>"],
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
