@@ -234,6 +234,9 @@ fn model_note(base: &CaseParams, used: &CaseParams) -> Vec<String> {
     v
 }
 
+/// A sweep figure's points, and how much of its table they are.
+type Drawn = (Vec<SweepPoint>, Option<Partial>);
+
 /// How much of a sweep figure's table a `--from` CSV holds.
 struct Partial {
     kept: usize,
@@ -320,7 +323,7 @@ fn sweep_points(
     spec: &SweepSpec,
     csv_path: &Path,
     replace: bool,
-) -> Result<std::result::Result<(Vec<SweepPoint>, Option<Partial>), ExitCode>> {
+) -> Result<std::result::Result<Drawn, ExitCode>> {
     let jobs = spec.jobs();
     let keys: Vec<String> = jobs.iter().map(|j| job_key(spec, j)).collect();
     if let Some(from) = &args.from {

@@ -164,6 +164,9 @@ fn runs(map: &SlipMap, directions: &[SlipDirection]) -> Vec<Run> {
     out
 }
 
+/// A zone over one row: `(t0, t1, lo, hi)`.
+type Segment = (f64, f64, f64, f64);
+
 /// The slip zones as smooth bands, one polygon per zone from where it
 /// appears (or splits off) to where it vanishes (or merges).
 ///
@@ -182,7 +185,7 @@ fn bands(rows: &[(f64, f64, Vec<Run>)]) -> Vec<(Vec<(f64, f64)>, SlipDirection)>
     };
     // Each zone's rows: (t0, t1, lo, hi), chained while it continues one
     // to one.
-    let mut chains: Vec<(SlipDirection, Vec<(f64, f64, f64, f64)>)> = Vec::new();
+    let mut chains: Vec<(SlipDirection, Vec<Segment>)> = Vec::new();
     let mut open: Vec<usize> = Vec::new();
     for (k, (t0, t1, runs)) in rows.iter().enumerate() {
         // Adjacent rows only: not across a gap (the ends of the axis).
@@ -216,7 +219,7 @@ fn bands(rows: &[(f64, f64, Vec<Run>)]) -> Vec<(Vec<(f64, f64)>, SlipDirection)>
         .into_iter()
         .map(|(dir, segs)| {
             // The edge's knots: its ends, and the middle of every step.
-            let knots = |edge: fn(&(f64, f64, f64, f64)) -> f64| {
+            let knots = |edge: fn(&Segment) -> f64| {
                 let mut v = vec![(edge(&segs[0]), segs[0].0)];
                 for w in segs.windows(2) {
                     let (a, b) = (edge(&w[0]), edge(&w[1]));
