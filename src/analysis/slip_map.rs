@@ -142,7 +142,7 @@ fn map_cycle(case: &Case, exact: bool) -> Result<SlipMap, SlipMapError> {
     }
     Ok(SlipMap {
         material: case.material,
-        cycle: case.cycle,
+        cycle: case.cycle.clone(),
         nodes: case.disc.nodes(),
         outcome,
         start,

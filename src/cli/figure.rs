@@ -780,6 +780,16 @@ fn limit_of(fig: &FigureSpec, spec: &SweepSpec, points: &[SweepPoint]) -> Result
     if !fig.limit || fig.axis != Axis::Lambda || phases.len() != 1 {
         return Ok(None);
     }
+    if let Some(job) = spec.jobs().first().filter(|_| spec.polyline().is_some()) {
+        let cycle = spec.cycle(job)?;
+        let l = shakedown::analysis::limit::cycle_limit(
+            &spec.material(),
+            &cycle,
+            &spec.disc(),
+            DEFAULT_SAMPLES,
+        )?;
+        return Ok(Some(l));
+    }
     let l = shakedown_limit(
         &spec.material(),
         spec.center(),
@@ -792,6 +802,10 @@ fn limit_of(fig: &FigureSpec, spec: &SweepSpec, points: &[SweepPoint]) -> Result
 }
 
 fn write_limit(path: &Path, l: &Limit, spec: &SweepSpec) -> Result<()> {
+    if let Some(p) = spec.polyline() {
+        let csv = shakedown::io::csv::polyline_slip_csv(l, &spec.material(), spec.center(), p);
+        return write(path, &csv);
+    }
     let csv = slip_csv(
         l,
         &spec.material(),

@@ -14,12 +14,14 @@ pub use crate::io::metadata::{
     case_metadata, check_preamble, fmt_number, limit_curve_metadata, Metadata, MetadataError,
     VERSION,
 };
-pub use crate::io::slip_csv::{read_slip_csv, slip_csv, SlipFileError, SLIP_HEADER};
+pub use crate::io::slip_csv::{
+    polyline_slip_csv, read_slip_csv, slip_csv, SlipFileError, SLIP_HEADER,
+};
 pub use crate::io::slip_map_csv::{
     read_slip_map, slip_map_metadata, SlipMapFile, SlipMapFileError, SlipMapReadError,
     SLIP_MAP_TABLE,
 };
 pub use crate::io::sweep_csv::{
-    header_cycle_cap, save_sweep_csv, sweep_csv, sweep_metadata, sweep_row_key,
+    header_cycle_cap, replace_sweep_csv, save_sweep_csv, sweep_csv, sweep_metadata, sweep_row_key,
     sweep_row_key_capped,
 };

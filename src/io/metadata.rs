@@ -200,7 +200,18 @@ pub fn case_metadata(table: &str, case: &Case, initial: &str) -> Metadata {
     m.push("lambda", fmt_number(case.cycle.load_factor()));
     m.push("phi", fmt_number(case.cycle.phase()));
     m.push("initial", initial);
+    if let Some(p) = case.cycle.as_polyline() {
+        polyline_entries(&mut m, p);
+    }
     m
+}
+
+/// A polyline cycle has no slope or phase: its header names the cycle by
+/// content instead (model.md section 5.4).
+pub(crate) fn polyline_entries(m: &mut Metadata, polyline: &crate::model::Polyline) {
+    m.set("psi", "none");
+    m.set("phi", "none");
+    m.push("cycle", polyline.name());
 }
 
 pub(crate) fn model_entries(m: &mut Metadata, material: &Material, center: LoadPoint, slope: f64) {

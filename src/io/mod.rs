@@ -5,6 +5,7 @@
 
 pub mod batch;
 pub mod csv;
+pub mod cycle;
 pub mod design;
 pub mod events;
 pub mod hash;

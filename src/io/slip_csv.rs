@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use crate::analysis::limit::Limit;
-use crate::io::metadata::{model_entries, Metadata};
+use crate::io::metadata::{model_entries, polyline_entries, Metadata};
 use crate::io::read::escape_text;
 use crate::model::{LoadPoint, Material};
 
@@ -29,6 +29,29 @@ pub fn slip_csv(
         .push("phi", phase)
         .push("samples", if limit.line { 2 } else { samples })
         .push("lambda_2", limit.load_factor);
+    slip_rows(&m, limit)
+}
+
+/// As [`slip_csv`] for a polyline cycle: the header names the cycle by
+/// content in place of `psi` and `phi`, and the samples are its vertices.
+pub fn polyline_slip_csv(
+    limit: &Limit,
+    material: &Material,
+    center: LoadPoint,
+    polyline: &crate::model::Polyline,
+) -> String {
+    let mut m = Metadata::new("optimal-slip");
+    model_entries(&mut m, material, center, f64::NAN);
+    m.push("nodes", limit.slip.len())
+        .push("phi", "none")
+        .push("samples", polyline.vertices().len())
+        .push("lambda_2", limit.load_factor);
+    polyline_entries(&mut m, polyline);
+    slip_rows(&m, limit)
+}
+
+fn slip_rows(m: &Metadata, limit: &Limit) -> String {
+    let nodes = limit.slip.len();
     let mut out = m.preamble(SLIP_HEADER);
     out.push('\n');
     for (j, g) in limit.slip.iter().enumerate() {

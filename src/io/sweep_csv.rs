@@ -8,7 +8,9 @@
 //! anything).
 
 use crate::analysis::sweep::{Row, SweepSpec, CSV_HEADER};
-use crate::io::metadata::{disc_entries, fmt_number, join, model_entries, Metadata};
+use crate::io::metadata::{
+    disc_entries, fmt_number, join, model_entries, polyline_entries, Metadata,
+};
 use crate::io::read::escape_text;
 use crate::stepping::steady::SteadyState;
 
@@ -211,6 +213,9 @@ pub fn sweep_metadata(spec: &SweepSpec) -> Metadata {
     m.push("phi", join(spec.phases()));
     let names: Vec<String> = spec.initials().iter().map(|i| i.name()).collect();
     m.push("initial", names.join(" "));
+    if let Some(p) = spec.polyline() {
+        polyline_entries(&mut m, p);
+    }
     m
 }
 
@@ -242,6 +247,22 @@ pub fn save_sweep_csv<'a>(
     rows: impl IntoIterator<Item = &'a crate::analysis::sweep::Row>,
 ) -> Result<(), crate::io::output::WriteError> {
     crate::io::output::write_new(path, sweep_csv(spec, rows).as_bytes())
+}
+
+/// [`save_sweep_csv`] over an existing file, which the user agreed to
+/// replace: written beside it and renamed over it
+/// ([`crate::io::output::write_atomic`]), so a failed write leaves the old
+/// file whole.
+///
+/// # Errors
+///
+/// [`crate::io::output::WriteError`] naming the path.
+pub fn replace_sweep_csv<'a>(
+    path: &std::path::Path,
+    spec: &SweepSpec,
+    rows: impl IntoIterator<Item = &'a crate::analysis::sweep::Row>,
+) -> Result<(), crate::io::output::WriteError> {
+    crate::io::output::write_atomic(path, sweep_csv(spec, rows).as_bytes())
 }
 
 /// The columns of a sweep row, split at commas outside quotes.
