@@ -9,6 +9,7 @@ mod design;
 mod docs_commands;
 mod engine;
 mod events;
+mod figure_guarantees;
 mod figures;
 mod history_trim;
 mod kernels;
