@@ -22,7 +22,7 @@ use crate::model::path::Initial;
 use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
 
 /// The built-in presets: name and TOML text, in listing order.
-pub const BUILTIN: [(&str, &str); 8] = [
+pub const BUILTIN: [(&str, &str); 9] = [
     ("fig3", include_str!("../../presets/fig3.toml")),
     ("fig4", include_str!("../../presets/fig4.toml")),
     ("fig5", include_str!("../../presets/fig5.toml")),
@@ -31,6 +31,7 @@ pub const BUILTIN: [(&str, &str); 8] = [
     ("fig8", include_str!("../../presets/fig8.toml")),
     ("fig9", include_str!("../../presets/fig9.toml")),
     ("regime", include_str!("../../presets/regime.toml")),
+    ("biharmonic", include_str!("../../presets/biharmonic.toml")),
 ];
 
 /// A preset that cannot be used.
