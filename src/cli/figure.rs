@@ -256,6 +256,9 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     if args.name == "design" {
         return super::design::figure(&args);
     }
+    if args.name == "profile" {
+        return super::run::profile_figure(&args);
+    }
     let preset = load_preset("figure", &args.name)?;
     let Some(fig) = preset.figure.clone() else {
         return Err(anyhow!(InputError(format!(

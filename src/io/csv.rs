@@ -212,7 +212,7 @@ pub fn sweep_metadata(spec: &SweepSpec) -> Metadata {
 fn polyline_entries(m: &mut Metadata, polyline: &crate::model::Polyline) {
     m.set("psi", "none");
     m.set("phi", "none");
-    m.push("cycle", polyline.name());
+    m.push("load-cycle", polyline.name());
 }
 
 /// A sweep's rows as a whole CSV: [`sweep_metadata`]'s comment lines,

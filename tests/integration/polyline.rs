@@ -235,7 +235,7 @@ fn the_cli_records_the_cycle_and_refuses_what_it_cannot_use() {
     let written = std::fs::read_to_string(&out).unwrap();
     let id = shakedown::io::hash::content_id(text.as_bytes());
     assert!(
-        written.contains(&format!("# cycle = cycle:square.csv@sha256:{id}\n")),
+        written.contains(&format!("# load-cycle = cycle:square.csv@sha256:{id}\n")),
         "{written}"
     );
     assert!(written.contains("# phi = none\n"), "{written}");
