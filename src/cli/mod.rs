@@ -473,6 +473,10 @@ pub struct TuiArgs {
     #[arg(long, value_name = "MIB", default_value_t = shakedown::tui::app::DEFAULT_HISTORY_MB as u64,
           value_parser = clap::value_parser!(u64).range(8..=65536))]
     pub history_mb: u64,
+    /// Open on the guided tour: the paper's story in eight live stops
+    /// (n next, N back, Esc takes over).
+    #[arg(long)]
+    pub tour: bool,
 }
 
 /// Parse the command line, run it, and map errors to exit codes: 2 for bad
@@ -683,7 +687,11 @@ fn tui(args: TuiArgs) -> Result<ExitCode> {
     let mut config = shakedown::tui::app::Config::from_env();
     config.ascii |= args.ascii;
     config.history_bytes = usize::try_from(args.history_mb << 20).unwrap_or(usize::MAX);
-    let code = shakedown::tui::run_with(case, preset, config)?;
+    let code = if args.tour {
+        shakedown::tui::run_tour(case, preset, config)?
+    } else {
+        shakedown::tui::run_with(case, preset, config)?
+    };
     Ok(ExitCode::from(code))
 }
 

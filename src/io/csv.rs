@@ -245,6 +245,22 @@ pub fn save_sweep_csv<'a>(
     crate::io::output::write_new(path, sweep_csv(spec, rows).as_bytes())
 }
 
+/// [`save_sweep_csv`] over an existing file, which the user agreed to
+/// replace: written beside it and renamed over it
+/// ([`crate::io::output::write_atomic`]), so a failed write leaves the old
+/// file whole.
+///
+/// # Errors
+///
+/// [`crate::io::output::WriteError`] naming the path.
+pub fn replace_sweep_csv<'a>(
+    path: &std::path::Path,
+    spec: &SweepSpec,
+    rows: impl IntoIterator<Item = &'a crate::analysis::sweep::Row>,
+) -> Result<(), crate::io::output::WriteError> {
+    crate::io::output::write_atomic(path, sweep_csv(spec, rows).as_bytes())
+}
+
 /// One case as comment lines (table `table`): the model, the
 /// discretisation, `lambda`, `phi` and the initial path.
 pub fn case_metadata(table: &str, case: &Case, initial: &str) -> Metadata {

@@ -9,6 +9,7 @@ pub mod cycle;
 pub mod design;
 pub mod events;
 pub mod hash;
+pub mod memory_csv;
 pub mod output;
 pub mod parse;
 pub mod preset;
