@@ -541,8 +541,13 @@ fn run_frontier(args: &DesignArgs, vertices: usize, budget: Budget, gap: f64) ->
     let base = args.case.base(CaseParams::default())?;
     let (_, case) = args.case.case(base)?;
     let _lock = prepare_out(args)?;
-    let (csv, interrupted) =
-        frontier_table(&case, vertices, budget, gap, &[Family::Free, Family::Decaying])?;
+    let (csv, interrupted) = frontier_table(
+        &case,
+        vertices,
+        budget,
+        gap,
+        &[Family::Free, Family::Decaying],
+    )?;
     print_stdout(&csv)?;
     if let Some(out) = &args.out {
         write_file("--out", out, csv.as_bytes())?;
