@@ -821,7 +821,7 @@ fn single_case(args: &FigureArgs, preset: &Preset) -> Result<Case> {
         p.phase = v;
     }
     if let Some(t) = &args.lists.initials {
-        p.initial = t.clone();
+        p.initial = super::parse_initial(t).map_err(|e| super::bad_flag("initial", t, e))?;
     }
     let mut case = Case::from_params(&p).map_err(|e| anyhow!(InputError(e.to_string())))?;
     if let Some(text) = &args.lists.initial_path {

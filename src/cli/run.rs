@@ -43,7 +43,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     let (mut params, mut case) = args.case.case(base)?;
     if let Some(path) = &args.initial_slip {
         case.initial = super::initial_slip(path, params.nodes)?;
-        params.initial = case.initial.name();
+        params.initial = case.initial.clone();
     }
     if let Some(out) = &args.profile {
         if !args.force && shakedown::io::output::is_nonempty_file(out) {
@@ -65,8 +65,12 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
                     summary.state()
                 ))));
             };
-            let csv =
-                shakedown::io::profile::profile_csv(&case, &params.initial, &summary, &profile);
+            let csv = shakedown::io::profile::profile_csv(
+                &case,
+                &case.initial.name(),
+                &summary,
+                &profile,
+            );
             super::batch::write_file("--profile", out, csv.as_bytes())?;
             summary
         }
@@ -107,7 +111,7 @@ pub fn to_json(params: &CaseParams, s: &Outcome, history: &[f64]) -> serde_json:
             "friction": params.friction,
             "nu": params.poisson,
             "plane": params.plane,
-            "initial": params.initial,
+            "initial": params.initial.name(),
             "nodes": params.nodes,
             "steps": params.steps,
             "max_cycles": params.max_cycles,
@@ -308,7 +312,7 @@ pub fn profile_figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
                 initial_path: args.lists.initial_path.clone(),
                 model: args.model.clone(),
             };
-            let (params, case) = case_args.case(CaseParams::default())?;
+            let (_, case) = case_args.case(CaseParams::default())?;
             let mut stepper = case.stepper();
             let (summary, profile) = shakedown::analysis::profile::profile_run(&mut stepper)?;
             let Some(profile) = profile else {
@@ -317,8 +321,12 @@ pub fn profile_figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
                     summary.state()
                 )));
             };
-            let csv =
-                shakedown::io::profile::profile_csv(&case, &params.initial, &summary, &profile);
+            let csv = shakedown::io::profile::profile_csv(
+                &case,
+                &case.initial.name(),
+                &summary,
+                &profile,
+            );
             super::batch::write_file("--out", &file(".csv"), csv.as_bytes())?;
             let meta = shakedown::io::csv::Metadata::parse(&csv);
             let title = profile_title(|k| meta.get(k).map(str::to_string));
