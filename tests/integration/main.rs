@@ -17,6 +17,7 @@ mod limit;
 mod numerical_failure;
 mod parser_props;
 mod physics;
+mod polyline;
 mod presets;
 mod solver_props;
 mod sweep_determinism;
