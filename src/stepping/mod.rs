@@ -12,7 +12,7 @@ pub mod verdict;
 mod zones;
 
 pub use driver::{drive, Control, Driven, Goal, Observer, Silent};
-pub use outcome::{GrossSlip, Outcome, Separation, ShakedownProof, Verdict};
+pub use outcome::{GrossSlip, Level, Outcome, Separation, ShakedownProof, Verdict};
 pub use safe_state::Certificate;
 pub use stepper::{
     operators, AtCenter, Event, Phase, Status, StepError, StepOptions, StepReport, Stepper,

@@ -12,6 +12,7 @@ mod events;
 mod figures;
 mod history_trim;
 mod kernels;
+mod level;
 mod limit;
 mod numerical_failure;
 mod parser_props;
