@@ -28,9 +28,9 @@ use std::f64::consts::PI;
 
 use serde::Serialize;
 
-use crate::analysis::limit::{shakedown_limit, Limit, LimitError, DEFAULT_SAMPLES};
+use crate::analysis::limit::{cycle_limit, Limit, LimitError, DEFAULT_SAMPLES};
 use crate::model::path::{Initial, PathError};
-use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
+use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane, Polyline};
 use crate::stepping::{Outcome, StepError, StepOptions, Stepper};
 
 /// A case that cannot be built.
@@ -68,6 +68,10 @@ pub struct CaseParams {
     /// The cycle centre `A = (x0, y0)` in the load plane. Default
     /// `(pi, 3 pi / 4)`.
     pub center: (f64, f64),
+    /// A closed polyline of offsets `(u, v)` from the centre in place of
+    /// the ellipse (`--cycle FILE`, model.md section 5.4); `phase` and
+    /// `slope` are then unused. Default none: the paper's ellipse.
+    pub cycle: Option<Polyline>,
     /// The friction coefficient `f`. Default 0.1.
     pub friction: f64,
     /// Poisson's ratio `nu`. Default 0.3.
@@ -99,6 +103,7 @@ impl Default for CaseParams {
             phase: 0.0,
             slope: 0.625,
             center: (PI, 0.75 * PI),
+            cycle: None,
             friction: 0.1,
             poisson: 0.3,
             plane: Plane::Strain,
@@ -145,13 +150,13 @@ impl Case {
     /// They are checked in that order, and the first failure is returned.
     pub fn from_params(p: &CaseParams) -> Result<Case, CaseError> {
         let material = Material::new(p.friction, p.poisson, p.plane)?;
-        let cycle = Cycle::new(
-            LoadPoint::new(p.center.0, p.center.1),
-            p.load_factor,
-            p.slope,
-            p.phase,
-        )?;
+        let center = LoadPoint::new(p.center.0, p.center.1);
+        let cycle = match &p.cycle {
+            None => Cycle::new(center, p.load_factor, p.slope, p.phase)?,
+            Some(polyline) => Cycle::polyline(center, p.load_factor, polyline.clone())?,
+        };
         let disc = Discretisation::new(p.nodes, p.steps)?;
+        cycle.check_steps(p.steps)?;
         if !(1..=100_000).contains(&p.max_cycles) {
             return Err(CaseError::MaxCycles(p.max_cycles));
         }
@@ -176,7 +181,7 @@ impl Case {
             self.material,
             self.disc,
             &self.initial,
-            self.cycle,
+            self.cycle.clone(),
             self.options,
         )
     }
@@ -219,23 +224,16 @@ impl Case {
         self.stepper().run_to_steady()
     }
 
-    /// The shakedown limit `lambda_2` of this case's material, centre,
-    /// slope and phase (the linear programme of model.md section 7.3, with
-    /// [`DEFAULT_SAMPLES`] instants of the cycle): its load factor is
-    /// [`Limit::load_factor`].
+    /// The shakedown limit `lambda_2` of this case's material and cycle
+    /// shape (the linear programme of model.md section 7.3; an ellipse at
+    /// [`DEFAULT_SAMPLES`] instants, a polyline at its vertices, which is
+    /// exact): its load factor is [`Limit::load_factor`].
     ///
     /// # Errors
     ///
     /// As [`shakedown_limit`].
     pub fn limit(&self) -> Result<Limit, LimitError> {
-        shakedown_limit(
-            &self.material,
-            self.cycle.center(),
-            self.cycle.slope(),
-            self.cycle.phase(),
-            &self.disc,
-            DEFAULT_SAMPLES,
-        )
+        cycle_limit(&self.material, &self.cycle, &self.disc, DEFAULT_SAMPLES)
     }
 }
 
@@ -267,6 +265,13 @@ impl CaseBuilder {
     /// The cycle centre `A = (x0, y0)` in the load plane.
     pub fn center(mut self, x: f64, y: f64) -> Self {
         self.params.center = (x, y);
+        self
+    }
+    /// A closed polyline cycle in place of the paper's ellipse (model.md
+    /// section 5.4); `phase` and `slope` are then unused, and `steps` must
+    /// be a multiple of its vertex count.
+    pub fn cycle(mut self, polyline: Polyline) -> Self {
+        self.params.cycle = Some(polyline);
         self
     }
     /// The friction coefficient `f`.

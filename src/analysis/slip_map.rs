@@ -111,7 +111,7 @@ pub fn slip_map(case: &Case) -> Result<SlipMap, SlipMapError> {
     }
     Ok(SlipMap {
         material: case.material,
-        cycle: case.cycle,
+        cycle: case.cycle.clone(),
         nodes: case.disc.nodes(),
         outcome,
         start,

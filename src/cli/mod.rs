@@ -38,7 +38,7 @@ use clap::{Args, Parser, Subcommand};
 use shakedown::analysis::case::{Case, CaseError, CaseParams};
 use shakedown::io::parse::{parse_angle, parse_number, parse_point};
 use shakedown::io::preset::Preset;
-use shakedown::model::{ParamError, Plane};
+use shakedown::model::Plane;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -108,6 +108,20 @@ pub struct ModelArgs {
     /// of stopping once a safe state proves it (docs/model.md section 6.4).
     #[arg(long)]
     pub run_out: bool,
+    /// Any closed load cycle instead of the ellipse: a CSV with header u,v, one vertex (offset from the centre A) a row in time order; the load is A + lambda (u, v), equal time per chord, so --steps must be a multiple of the vertex count (docs/model.md section 5.4). Not with --phi or --psi.
+    #[arg(long, value_name = "FILE", conflicts_with = "psi")]
+    pub cycle: Option<String>,
+}
+
+/// The polyline cycle of `--cycle FILE`; a bad file is bad input, on one
+/// line naming the flag.
+pub fn cycle_file(path: &str) -> Result<shakedown::model::Polyline> {
+    shakedown::io::cycle::read_cycle_file(std::path::Path::new(path)).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--cycle {}: {e}",
+            shakedown::io::read::escape_text(path, 200)
+        )))
+    })
 }
 
 /// Flags that define one case. Unset flags keep the preset's (or the
@@ -163,21 +177,14 @@ pub fn load_preset(flag: &str, name: &str) -> Result<Preset> {
         .map_err(|e| anyhow!(InputError(format!("{flag} {name}: {e}"))))
 }
 
-/// What each flag accepts, as error messages say it. A test keeps these
-/// equal to the library's checks.
+/// What each flag accepts, as error messages say it: the library's own
+/// ranges (`shakedown::model::ranges`), written once there.
 pub fn accepted(flag: &str) -> Option<&'static str> {
     Some(match flag {
-        "lambda" => "0 <= lambda <= 1000",
-        "phi" => "|phi| <= 1000 rad",
-        "psi" => "|psi| <= 1e6",
         "center" => "x0,y0 with |x0|, |y0| <= 1000 (pi allowed: pi,0.75pi)",
-        "friction" => "0 < f <= 10",
-        "nu" => "0 <= nu < 0.5",
         "plane" => "strain or stress",
-        "nodes" => "an even number from 16 to 4096",
-        "steps" => "16 to 100000 increments per cycle",
-        "max-cycles" => "1 to 100000",
-        _ => return None,
+        "cycle" => "a CSV file with header u,v and at least 3 finite vertices",
+        f => shakedown::model::ranges::expected(f)?,
     })
 }
 
@@ -197,22 +204,18 @@ pub fn bad_flag(flag: &str, value: &str, why: impl std::fmt::Display) -> anyhow:
 /// The flag a validation error is about.
 pub fn flag_of(e: &CaseError) -> Option<&'static str> {
     match e {
-        CaseError::Param(p) => {
-            let (ParamError::NotFinite { name, .. }
-            | ParamError::OutOfRange { name, .. }
-            | ParamError::BadCount { name, .. }) = p;
-            Some(match *name {
-                "x0" | "y0" | "center" => "center",
-                "lambda" => "lambda",
-                "phi" => "phi",
-                "psi" => "psi",
-                "friction" => "friction",
-                "nu" => "nu",
-                "nodes" => "nodes",
-                "steps" => "steps",
-                _ => return None,
-            })
-        }
+        CaseError::Param(p) => Some(match p.name() {
+            "x0" | "y0" | "center" => "center",
+            "lambda" => "lambda",
+            "phi" => "phi",
+            "psi" => "psi",
+            "friction" => "friction",
+            "nu" => "nu",
+            "nodes" => "nodes",
+            "steps" => "steps",
+            "cycle" => "cycle",
+            _ => return None,
+        }),
         CaseError::Path(_) | CaseError::Optimal(_) => Some("initial"),
         CaseError::MaxCycles(_) => Some("max-cycles"),
     }
@@ -274,6 +277,12 @@ impl ModelArgs {
         if self.run_out {
             p.safe_state = false;
         }
+        if let Some(path) = &self.cycle {
+            p.cycle = Some(cycle_file(path)?);
+        }
+        if let Some(psi) = &self.psi {
+            refuse_phase_with_polyline(&p, "psi", psi)?;
+        }
         Ok(p)
     }
 }
@@ -290,6 +299,7 @@ impl ModelArgs {
             "nodes" => self.nodes.clone(),
             "steps" => self.steps.clone(),
             "max-cycles" => self.max_cycles.clone(),
+            "cycle" => self.cycle.clone(),
             _ => None,
         }
     }
@@ -316,6 +326,7 @@ impl CaseArgs {
             p.load_factor = v;
         }
         if let Some(v) = flag("phi", &self.phi, parse_angle)? {
+            refuse_phase_with_polyline(&p, "phi", self.phi.as_deref().unwrap_or_default())?;
             p.phase = v;
         }
         if let Some(v) = &self.initial {
@@ -351,6 +362,17 @@ impl CaseArgs {
             f => self.model.given(f),
         }
     }
+}
+
+/// `--phi` (or `--psi`) with a polyline cycle: refused, since a polyline
+/// has neither (docs/model.md section 5.4).
+pub fn refuse_phase_with_polyline(p: &CaseParams, flag: &str, value: &str) -> Result<()> {
+    if p.cycle.is_some() {
+        return Err(anyhow!(InputError(format!(
+            "--{flag} {value}: a polyline cycle (--cycle or the preset's cycle) has no {flag}: drop --{flag}, or give the phase in the cycle's vertices"
+        ))));
+    }
+    Ok(())
 }
 
 /// Largest `--nodes` and `--steps` of the interactive range: a run takes
@@ -451,6 +473,10 @@ pub struct TuiArgs {
     #[arg(long, value_name = "MIB", default_value_t = shakedown::tui::app::DEFAULT_HISTORY_MB as u64,
           value_parser = clap::value_parser!(u64).range(8..=65536))]
     pub history_mb: u64,
+    /// Open on the guided tour: the paper's story in eight live stops
+    /// (n next, N back, Esc takes over).
+    #[arg(long)]
+    pub tour: bool,
 }
 
 /// Parse the command line, run it, and map errors to exit codes: 2 for bad
@@ -661,7 +687,11 @@ fn tui(args: TuiArgs) -> Result<ExitCode> {
     let mut config = shakedown::tui::app::Config::from_env();
     config.ascii |= args.ascii;
     config.history_bytes = usize::try_from(args.history_mb << 20).unwrap_or(usize::MAX);
-    let code = shakedown::tui::run_with(case, preset, config)?;
+    let code = if args.tour {
+        shakedown::tui::run_tour(case, preset, config)?
+    } else {
+        shakedown::tui::run_with(case, preset, config)?
+    };
     Ok(ExitCode::from(code))
 }
 

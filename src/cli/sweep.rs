@@ -112,7 +112,10 @@ pub fn spec(
         (None, None) => vec![params.load_factor],
     };
     let phis = match (&lists.phis, preset) {
-        (Some(t), _) => parse_values(t, parse_angle).map_err(|e| bad_flag("phi", t, e))?,
+        (Some(t), _) => {
+            super::refuse_phase_with_polyline(&params, "phi", t)?;
+            parse_values(t, parse_angle).map_err(|e| bad_flag("phi", t, e))?
+        }
         (None, Some(p)) => p.phases.clone(),
         (None, None) => vec![params.phase],
     };

@@ -156,18 +156,13 @@ fn mix(code: u32) -> u64 {
     z ^ (z >> 31)
 }
 
-/// The hash of a set from its codes: the exclusive or of their shares, so
-/// that a node entering, leaving or reversing changes it in `O(1)`.
+/// The hash of a set from its codes: the exclusive or of their shares.
 fn hash(codes: &[u32]) -> u64 {
     codes.iter().fold(0, |h, &c| h ^ mix(c))
 }
 
 /// A slip set as the cache knows it: the codes ([`code`]) of its slipping
-/// nodes in node order, and their hash, kept by the owner of the set as it
-/// changes node by node. A lookup then neither encodes nor hashes the set
-/// (both were `O(k)` at every lookup, and again at the insert after a
-/// miss: a serial chain of multiplies, about 3 % of a sweep's
-/// instructions).
+/// nodes in node order, and their hash.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub(crate) struct SetKey {
     codes: Vec<u32>,
@@ -187,40 +182,15 @@ impl SetKey {
     #[cfg(test)]
     pub(crate) fn of(set: &[(usize, f64)]) -> Self {
         let mut key = Self::with_capacity(set.len());
-        key.extend(set);
+        key.set_to(set);
         key
     }
 
-    pub(crate) fn clear(&mut self) {
+    /// The key becomes that of `set` (`(node, sign)` in node order).
+    pub(crate) fn set_to(&mut self, set: &[(usize, f64)]) {
         self.codes.clear();
-        self.hash = 0;
-    }
-
-    /// Append `set`, whose nodes all come after the key's.
-    pub(crate) fn extend(&mut self, set: &[(usize, f64)]) {
-        for entry in set {
-            let c = code(entry);
-            self.codes.push(c);
-            self.hash ^= mix(c);
-        }
-    }
-
-    /// `entry` enters at position `at` of the set.
-    pub(crate) fn insert(&mut self, at: usize, entry: (usize, f64)) {
-        let c = code(&entry);
-        self.codes.insert(at, c);
-        self.hash ^= mix(c);
-    }
-
-    /// The node at position `at` of the set leaves it.
-    pub(crate) fn remove(&mut self, at: usize) {
-        self.hash ^= mix(self.codes.remove(at));
-    }
-
-    /// The node at position `at` of the set becomes `entry` (a reversal).
-    pub(crate) fn replace(&mut self, at: usize, entry: (usize, f64)) {
-        let c = code(&entry);
-        self.hash ^= mix(std::mem::replace(&mut self.codes[at], c)) ^ mix(c);
+        self.codes.extend(set.iter().map(code));
+        self.hash = hash(&self.codes);
     }
 }
 

@@ -201,7 +201,18 @@ pub fn sweep_metadata(spec: &SweepSpec) -> Metadata {
     m.push("phi", join(spec.phases()));
     let names: Vec<String> = spec.initials().iter().map(|i| i.name()).collect();
     m.push("initial", names.join(" "));
+    if let Some(p) = spec.polyline() {
+        polyline_entries(&mut m, p);
+    }
     m
+}
+
+/// A polyline cycle has no slope or phase: its header names the cycle by
+/// content instead (model.md section 5.4).
+fn polyline_entries(m: &mut Metadata, polyline: &crate::model::Polyline) {
+    m.set("psi", "none");
+    m.set("phi", "none");
+    m.push("cycle", polyline.name());
 }
 
 /// A sweep's rows as a whole CSV: [`sweep_metadata`]'s comment lines,
@@ -234,6 +245,22 @@ pub fn save_sweep_csv<'a>(
     crate::io::output::write_new(path, sweep_csv(spec, rows).as_bytes())
 }
 
+/// [`save_sweep_csv`] over an existing file, which the user agreed to
+/// replace: written beside it and renamed over it
+/// ([`crate::io::output::write_atomic`]), so a failed write leaves the old
+/// file whole.
+///
+/// # Errors
+///
+/// [`crate::io::output::WriteError`] naming the path.
+pub fn replace_sweep_csv<'a>(
+    path: &std::path::Path,
+    spec: &SweepSpec,
+    rows: impl IntoIterator<Item = &'a crate::analysis::sweep::Row>,
+) -> Result<(), crate::io::output::WriteError> {
+    crate::io::output::write_atomic(path, sweep_csv(spec, rows).as_bytes())
+}
+
 /// One case as comment lines (table `table`): the model, the
 /// discretisation, `lambda`, `phi` and the initial path.
 pub fn case_metadata(table: &str, case: &Case, initial: &str) -> Metadata {
@@ -248,6 +275,9 @@ pub fn case_metadata(table: &str, case: &Case, initial: &str) -> Metadata {
     m.push("lambda", fmt_number(case.cycle.load_factor()));
     m.push("phi", fmt_number(case.cycle.phase()));
     m.push("initial", initial);
+    if let Some(p) = case.cycle.as_polyline() {
+        polyline_entries(&mut m, p);
+    }
     m
 }
 
@@ -336,6 +366,29 @@ pub fn slip_csv(
         .push("phi", phase)
         .push("samples", if limit.line { 2 } else { samples })
         .push("lambda_2", limit.load_factor);
+    slip_rows(&m, limit)
+}
+
+/// As [`slip_csv`] for a polyline cycle: the header names the cycle by
+/// content in place of `psi` and `phi`, and the samples are its vertices.
+pub fn polyline_slip_csv(
+    limit: &Limit,
+    material: &Material,
+    center: LoadPoint,
+    polyline: &crate::model::Polyline,
+) -> String {
+    let mut m = Metadata::new("optimal-slip");
+    model_entries(&mut m, material, center, f64::NAN);
+    m.push("nodes", limit.slip.len())
+        .push("phi", "none")
+        .push("samples", polyline.vertices().len())
+        .push("lambda_2", limit.load_factor);
+    polyline_entries(&mut m, polyline);
+    slip_rows(&m, limit)
+}
+
+fn slip_rows(m: &Metadata, limit: &Limit) -> String {
+    let nodes = limit.slip.len();
     let mut out = m.preamble(SLIP_HEADER);
     out.push('\n');
     for (j, g) in limit.slip.iter().enumerate() {

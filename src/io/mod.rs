@@ -5,9 +5,11 @@
 
 pub mod batch;
 pub mod csv;
+pub mod cycle;
 pub mod design;
 pub mod events;
 pub mod hash;
+pub mod memory_csv;
 pub mod output;
 pub mod parse;
 pub mod preset;

@@ -344,9 +344,50 @@ struct CaseToml {
     plane: Option<Spanned<Plane>>,
     initial: Option<Spanned<String>>,
     initial_path: Option<Spanned<Vec<Vec<Num>>>>,
+    cycle: Option<Spanned<CycleToml>>,
     nodes: Option<Spanned<usize>>,
     steps: Option<Spanned<usize>>,
     max_cycles: Option<Spanned<usize>>,
+}
+
+/// `cycle = "FILE"` (a cycle CSV, relative to the preset's folder) or an
+/// inline `cycle = [[u, v], ...]` (model.md section 5.4).
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+enum CycleToml {
+    File(String),
+    Inline(Vec<Vec<Num>>),
+}
+
+/// The polyline of a preset's `cycle` key.
+fn cycle_of(ctx: &Ctx, v: &Spanned<CycleToml>) -> Result<crate::model::Polyline, PresetError> {
+    let at = |e: String| ctx.at(v.span(), format!("case.cycle: {e}"));
+    match v.get_ref() {
+        CycleToml::File(name) => {
+            let path = std::path::Path::new(name);
+            let path = match std::path::Path::new(ctx.file).parent() {
+                Some(dir) if path.is_relative() => dir.join(path),
+                _ => path.to_path_buf(),
+            };
+            crate::io::cycle::read_cycle_file(&path)
+                .map_err(|e| at(format!("{}: {e}", crate::io::read::escape_text(name, 200))))
+        }
+        CycleToml::Inline(rows) => {
+            let mut vertices = Vec::with_capacity(rows.len());
+            for row in rows {
+                if row.len() != 2 {
+                    return Err(at(format!(
+                        "expected vertices [u, v], found one with {} values",
+                        row.len()
+                    )));
+                }
+                let u = row[0].angle().map_err(|e| at(e.to_string()))?;
+                let w = row[1].angle().map_err(|e| at(e.to_string()))?;
+                vertices.push(LoadPoint::new(u, w));
+            }
+            crate::io::cycle::inline_cycle(vertices).map_err(|e| at(e.to_string()))
+        }
+    }
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -445,7 +486,35 @@ pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Preset, Prese
         ));
     }
 
-    let params = case_params(&ctx, &raw.case)?;
+    let mut params = case_params(&ctx, &raw.case)?;
+    if let Some(v) = &raw.case.cycle {
+        for (key, given) in [
+            ("phi", raw.case.phi.is_some()),
+            ("psi", raw.case.psi.is_some()),
+        ] {
+            if given {
+                return Err(ctx.at(
+                    v.span(),
+                    format!("case.cycle: a polyline cycle has no {key}: remove case.{key}"),
+                ));
+            }
+        }
+        if raw.sweep.phi.is_some() {
+            return Err(ctx.at(
+                v.span(),
+                "case.cycle: a polyline cycle has no phase: remove sweep.phi",
+            ));
+        }
+        let polyline = cycle_of(&ctx, v)?;
+        Cycle::polyline(
+            LoadPoint::new(params.center.0, params.center.1),
+            params.load_factor,
+            polyline.clone(),
+        )
+        .and_then(|c| c.check_steps(params.steps))
+        .map_err(|e| ctx.at(v.span(), format!("case.cycle: {e}")))?;
+        params.cycle = Some(polyline);
+    }
     let mut sweep = sweep_lists(&ctx, &raw.sweep, &params)?;
     let initial_path = match &raw.case.initial_path {
         None => None,
@@ -565,11 +634,7 @@ fn case_params(ctx: &Ctx, c: &CaseToml) -> Result<CaseParams, PresetError> {
         }
     };
     let param_error = |e: ParamError| {
-        let name = match &e {
-            ParamError::NotFinite { name, .. }
-            | ParamError::OutOfRange { name, .. }
-            | ParamError::BadCount { name, .. } => *name,
-        };
+        let name = e.name();
         match span_of(name) {
             Some(span) => ctx.at(span, format!("case: {e}")),
             None => ctx.whole(format!("case: {e}")),

@@ -194,7 +194,7 @@ impl Setup {
         }
         Self {
             material: *contact.material(),
-            cycle: *cycle,
+            cycle: cycle.clone(),
             nodes: contact.nodes(),
             steps,
             elastic,
@@ -701,9 +701,9 @@ mod tests {
         let others = [
             (contact(0.1, 64), Cycle::paper(5.5, 0.0).unwrap(), 200),
             (contact(0.1, 64), Cycle::paper(5.0, 0.3).unwrap(), 200),
-            (contact(0.2, 64), cycle, 200),
-            (contact(0.1, 32), cycle, 200),
-            (contact(0.1, 64), cycle, 400),
+            (contact(0.2, 64), cycle.clone(), 200),
+            (contact(0.1, 32), cycle.clone(), 200),
+            (contact(0.1, 64), cycle.clone(), 400),
         ];
         for (c, cycle, steps) in &others {
             let search = SafeStateSearch::sharing(shared(), c, cycle, *steps);

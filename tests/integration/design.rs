@@ -175,6 +175,29 @@ fn no_path_shakes_down_above_lambda_2() {
     assert!(found.best.unwrap().shakes_down());
 }
 
+/// `--gross-gap G` keeps every vertex at least `G` inside the gross-slip
+/// line, and the report's region says so.
+#[test]
+fn a_wider_gross_gap_keeps_every_vertex_inside_it() {
+    let v = design(&[
+        "--lambda",
+        "4.3",
+        "--vertices",
+        "3",
+        "--particles",
+        "6",
+        "--iterations",
+        "2",
+        "--gross-gap",
+        "1.5",
+    ]);
+    let y_max = v["region"]["y_max"].as_f64().unwrap();
+    assert!((y_max - (2.0 * PI - 1.5)).abs() < 1e-12, "{y_max}");
+    for p in v["path"].as_array().unwrap() {
+        assert!(p[1].as_f64().unwrap().abs() <= y_max, "{p}");
+    }
+}
+
 #[test]
 fn design_refuses_bad_input() {
     for (args, flag) in [
@@ -192,6 +215,14 @@ fn design_refuses_bad_input() {
             "--initial",
         ),
         (vec!["design", "--frontier", "--lambda", "4.8"], "--lambda"),
+        (
+            vec!["design", "--lambda", "4.8", "--gross-gap", "0"],
+            "--gross-gap",
+        ),
+        (
+            vec!["design", "--lambda", "4.8", "--gross-gap", "nan"],
+            "--gross-gap",
+        ),
     ] {
         let o = shakedown(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");

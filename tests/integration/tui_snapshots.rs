@@ -104,7 +104,7 @@ fn synthetic(i: usize, n: usize) -> Record {
             load: at.load,
             nodes: stuck.len(),
             theta: Some((theta(10), theta(14))),
-            text: "advancing stick at 5 nodes (3 sub-increments)".into(),
+            text: "advancing stick at 5 nodes".into(),
         });
     }
     if i.is_multiple_of(50) {
@@ -359,6 +359,7 @@ fn every_mode_lists_every_key_at_80x24() {
                 app.apply(Action::ToggleLog);
             }
             Mode::Stepping => {}
+            Mode::Tour => app.start_tour(),
         }
         assert_eq!(app.mode(), mode);
         app.apply(Action::Help);

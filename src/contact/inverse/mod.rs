@@ -115,15 +115,8 @@ const MAX_SPECIAL: usize = 24;
 /// Pinned or reversed nodes at which the base is refactorised, for a base
 /// of `k` nodes: the correction costs `O(k m)` per change for `m` of them
 /// (and `O(k m^2)` with reversals), against `O(k^3)` for a new LU.
-///
-/// `k / 8`: at `N = 1024` (`run --lambda 5.5 --phi 0`, bases of 150 to
-/// 300 nodes) the advancing stick pins a node every few events, and
-/// `k / 16` refactorised about five times a cycle at 15 to 20 pinned
-/// nodes; `k / 8` takes 2.5 % fewer instructions there (callgrind, 2.94 G
-/// to 2.87 G) and 0.8 % fewer over a Fig. 3 map slice (same states,
-/// `W` within 2e-14). A limit of 32 or 48 past `k = 256` cost more.
 fn special_limit(k: usize) -> usize {
-    (k / 8).clamp(4, MAX_SPECIAL)
+    (k / 16).clamp(4, MAX_SPECIAL)
 }
 
 /// What a node of the base matrix `A` is in the current set.

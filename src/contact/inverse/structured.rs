@@ -31,8 +31,8 @@
 //! y = v + sum_q mu_q A^-1 e_q - sum_j eta_j A^-1 M_Sg_j
 //! ```
 //!
-//! with the `m` added nodes' equations (their rows `M_gS`, kept for each
-//! edge as the solutions are) and `y_q = 0` at the `m - 1` removed nodes (their equations
+//! with the `m` added nodes' equations (their rows `M_gS`, read off the
+//! operators) and `y_q = 0` at the `m - 1` removed nodes (their equations
 //! released by the multipliers `mu`) is a system of `2 m - 1` unknowns;
 //! `y` and `eta`, shifted forward by `d`, are the new neighbour solution.
 //! A bordering then costs about `(6 m + 4) k` multiply-adds where a pass
@@ -105,11 +105,7 @@ pub(super) struct Structured {
     pub(super) edge: Vec<f64>,
     /// The system for the new neighbour solution.
     small: DenseLu,
-    /// The rows `M_gS` of the nodes `g` just outside the edges, by slot
-    /// as the solutions, [`SetInverse::row_of`]'s numbers: each gains
-    /// the entry of the entering node at a bordering ([`row_entry`]), and
-    /// only the moved edge's new neighbour is read off the operators (four
-    /// rows a bordering were, 4.5 % of the `N = 1024` run).
+    /// The added nodes' rows `M_gS` of a shift, `m` of `n` entries.
     rows: Vec<f64>,
     /// The solution on the shifted set, and the new neighbour solution.
     y: Vec<f64>,
@@ -166,14 +162,11 @@ impl Structured {
         debug_assert_eq!(inv.perm.len(), k, "the factors cover the set");
         let mut neighbour = vec![0.0; 2 * MAX_ARCS * n];
         let mut edge = vec![0.0; 2 * MAX_ARCS * n];
-        let mut rows = vec![0.0; 2 * MAX_ARCS * n];
         let mut x = vec![0.0; n];
         for (j, arc) in arcs.iter().enumerate() {
             for side in 0..2 {
                 let slot = (2 * j + side) * n;
-                let g = step(arc.edge[side], side, n);
-                inv.row_of(ops, g, arc.sign, &mut rows[slot..slot + k]);
-                inv.column(ops, g, &mut x[..k]);
+                inv.column(ops, step(arc.edge[side], side, n), &mut x[..k]);
                 inv.solve_base(&mut x);
                 neighbour[slot..slot + k].copy_from_slice(&x[..k]);
                 x[..k].fill(0.0);
@@ -189,7 +182,7 @@ impl Structured {
                 neighbour,
                 edge,
                 small: DenseLu::new(MAX_DIM),
-                rows,
+                rows: vec![0.0; MAX_ARCS * n],
                 y: vec![0.0; n],
                 fresh: vec![0.0; n],
                 w: vec![0.0; n],
@@ -232,14 +225,7 @@ impl Structured {
         // (`solve_base` works in `inv.v`.)
         let mut x = std::mem::take(&mut self.y);
         for side in 0..2 {
-            let g = step(a, side, n);
-            inv.row_of(
-                ops,
-                g,
-                sign,
-                &mut self.rows[slot(m, side)..slot(m, side) + k1],
-            );
-            inv.column(ops, g, &mut x[..k1]);
+            inv.column(ops, step(a, side, n), &mut x[..k1]);
             inv.solve_base(&mut x);
             self.neighbour[slot(m, side)..slot(m, side) + k1].copy_from_slice(&x[..k1]);
         }
@@ -276,13 +262,6 @@ impl Structured {
     }
 }
 
-/// `M[row, node]` for a row with slip sign `sign`, with the numbers of
-/// [`SetInverse::row_of`] (read from column `row`).
-#[inline]
-fn row_entry(ops: &Operators, friction: f64, row: usize, sign: f64, node: usize) -> f64 {
-    -ops.abs_derivative_col(row)[node] + friction * sign * ops.hilbert_col(row)[node]
-}
-
 /// `w` (`k + 1` entries, a kept solution `A^-1 z` in its first `k`)
 /// follows the bordering by a node of row `row`, `v = A^-1 M_Sa` and Schur
 /// complement `sigma`, `z_a` the new entry of its right-hand side:
@@ -296,8 +275,7 @@ fn follow(w: &mut [f64], row: &[f64], v: &[f64], sigma: f64, za: f64) {
 
 impl Structured {
     /// Every kept vector but those of the slots `skip` (arc, side) follows
-    /// the bordering by node `a` with sign `sign` ([`follow`]), and the
-    /// kept rows gain the entry of `a`.
+    /// the bordering by node `a` with sign `sign` ([`follow`]).
     #[allow(clippy::too_many_arguments)]
     fn follow_all(
         &mut self,
@@ -321,7 +299,6 @@ impl Structured {
                 at[c] = (2 * j + side) * n;
                 let g = step(self.arcs[j].edge[side], side, n);
                 za[2 * c] = SetInverse::entry(ops, friction, a, sign, g);
-                self.rows[at[c] + k] = row_entry(ops, friction, g, self.arcs[j].sign, a);
                 c += 1;
             }
         }
@@ -426,9 +403,10 @@ impl SetInverse {
         if self.pos[beyond] != NONE {
             return self.merge_arcs(ops, st, i, s, a, sign);
         }
-        // v = A^-1 M_Sa and the row r = M_aS are kept; the pivot.
+        // v = A^-1 M_Sa is kept; the row r = M_aS and the pivot.
         let slot = |j: usize, side: usize| (2 * j + side) * n;
-        let Some(sigma) = self.kept_schur(ops, st, slot(i, s), a, sign) else {
+        let Some(sigma) = self.schur(ops, a, sign, &st.neighbour[slot(i, s)..slot(i, s) + k])
+        else {
             return Bordered::Singular;
         };
         // The new neighbour solution, from the set S + a shifted back.
@@ -444,9 +422,6 @@ impl SetInverse {
         st.arcs[i].edge[s] = a;
         self.follow_border(ops, a, sign, sigma);
         self.push(a, sign);
-        // The row of the edge's new neighbour.
-        let g = step(a, s, n);
-        self.row_of(ops, g, sign, &mut st.rows[slot(i, s)..slot(i, s) + k + 1]);
         Bordered::Done
     }
 
@@ -536,7 +511,10 @@ impl SetInverse {
         let removed = &removed[..r];
         // Unknowns: eta_j for the added nodes, then mu_t for the removed.
         let dim = m + r;
-        let rows = std::mem::take(&mut st.rows);
+        let mut rows = std::mem::take(&mut st.rows);
+        for (j, &g) in added.iter().enumerate() {
+            self.row_of(ops, g, st.arcs[j].sign, &mut rows[j * n..j * n + k]);
+        }
         let mut rhs = [0.0; MAX_DIM];
         let mut scale = 0.0f64;
         {
@@ -557,7 +535,7 @@ impl SetInverse {
             vecs[dim] = w;
             let mut d = [0.0; MAX_DIM + 1];
             for (j, &g) in added.iter().enumerate() {
-                let rj = &rows[slot(j, o)..slot(j, o) + k];
+                let rj = &rows[j * n..j * n + k];
                 dots(st.arch, &vecs[..=dim], rj, &mut d[..=dim]);
                 let sj = st.arcs[j].sign;
                 for (l, &gl) in added.iter().enumerate() {
@@ -626,47 +604,14 @@ impl SetInverse {
             .fold(true, |ok, x| ok & x.is_finite())
     }
 
-    /// [`Self::schur`] of node `a` entering next to the edge whose kept
-    /// row and neighbour solution start at `at` in `st`'s slots.
-    fn kept_schur(
-        &mut self,
-        ops: &Operators,
-        st: &Structured,
-        at: usize,
-        a: usize,
-        sign: f64,
-    ) -> Option<f64> {
-        let kept = at..at + self.nodes.len();
-        self.schur(
-            ops,
-            a,
-            sign,
-            Some(&st.rows[kept.clone()]),
-            &st.neighbour[kept],
-        )
-    }
-
-    /// The row `M_aS` of node `a` with sign `sign` (`kept`, or read off
-    /// the operators) into `self.row`, `v` into `self.v` and the Schur
-    /// complement `M_aa - r . v` of the bordering, or `None` if it is too
-    /// small.
-    fn schur(
-        &mut self,
-        ops: &Operators,
-        a: usize,
-        sign: f64,
-        kept: Option<&[f64]>,
-        v: &[f64],
-    ) -> Option<f64> {
+    /// The row `M_aS` of node `a` with sign `sign` into `self.row`, `v`
+    /// into `self.v` and the Schur complement `M_aa - r . v` of the
+    /// bordering, or `None` if it is too small.
+    fn schur(&mut self, ops: &Operators, a: usize, sign: f64, v: &[f64]) -> Option<f64> {
         let k = self.nodes.len();
-        match kept {
-            Some(row) => self.row[..k].copy_from_slice(row),
-            None => {
-                let mut row = std::mem::take(&mut self.row);
-                self.row_of(ops, a, sign, &mut row[..k]);
-                self.row = row;
-            }
-        }
+        let mut row = std::mem::take(&mut self.row);
+        self.row_of(ops, a, sign, &mut row[..k]);
+        self.row = row;
         self.v[..k].copy_from_slice(v);
         let rv = dot(&self.row[..k], &self.v[..k]);
         let d0 = SetInverse::entry(ops, self.friction, a, sign, a);
@@ -739,7 +684,7 @@ impl SetInverse {
             return Bordered::NotHere;
         }
         // The bordering by a, with v = s_t.
-        let Some(sigma) = self.schur(ops, a, sign, None, &walk[1][..k]) else {
+        let Some(sigma) = self.schur(ops, a, sign, &walk[1][..k]) else {
             st.walk = walk;
             return Bordered::Singular;
         };
@@ -759,15 +704,6 @@ impl SetInverse {
         st.walk = walk;
         self.follow_border(ops, a, sign, sigma);
         self.push(a, sign);
-        for side in 0..2 {
-            let g = step(a, side, n);
-            self.row_of(
-                ops,
-                g,
-                sign,
-                &mut st.rows[slot(m, side)..=slot(m, side) + k],
-            );
-        }
         Bordered::Done
     }
 
@@ -792,7 +728,8 @@ impl SetInverse {
             return Bordered::NotHere;
         }
         let slot = |j: usize, side: usize| (2 * j + side) * n;
-        let Some(sigma) = self.kept_schur(ops, st, slot(i, s), a, sign) else {
+        let Some(sigma) = self.schur(ops, a, sign, &st.neighbour[slot(i, s)..slot(i, s) + k])
+        else {
             return Bordered::Singular;
         };
         let (row, v) = (&self.row[..k], &self.v[..k]);
@@ -803,12 +740,9 @@ impl SetInverse {
             .copy_within(slot(j, s)..slot(j, s) + k + 1, slot(i, s));
         st.edge
             .copy_within(slot(j, s)..slot(j, s) + k + 1, slot(i, s));
-        st.rows
-            .copy_within(slot(j, s)..slot(j, s) + k + 1, slot(i, s));
         st.neighbour
             .copy_within(slot(j + 1, 0)..slot(m, 0), slot(j, 0));
         st.edge.copy_within(slot(j + 1, 0)..slot(m, 0), slot(j, 0));
-        st.rows.copy_within(slot(j + 1, 0)..slot(m, 0), slot(j, 0));
         st.arcs.remove(j);
         self.follow_border(ops, a, sign, sigma);
         self.push(a, sign);

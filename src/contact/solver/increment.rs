@@ -232,7 +232,8 @@ pub(crate) struct Engine {
     /// The slip set of the cached responses, and as `(node, sign)`.
     dirs: Vec<SlipDirection>,
     set: Vec<(usize, f64)>,
-    /// The set as the response cache knows it, kept beside `set`.
+    /// The set as the response cache knows it, made from `set` for each
+    /// lookup ([`SetKey::set_to`]).
     key: SetKey,
     /// Scratch of a change of set: the nodes whose direction changes.
     changes: Vec<usize>,
@@ -332,9 +333,7 @@ impl Engine {
     /// `sgn` and `off` follow it.
     ///
     /// A set changes by a node or two at a time, so only the nodes whose
-    /// direction changes are visited: they are found by comparing the
-    /// directions sixteen at a time, branch-free (a test per node of all
-    /// `N` was a twentieth of a sweep's time). A few changes are edited
+    /// direction changes are visited. A few changes are edited
     /// into the set where they belong (a binary search and a short move
     /// each); merging the whole set with them, as before, was a fifteenth
     /// of a sweep's time. Many changes at once make the set afresh from the
@@ -356,8 +355,6 @@ impl Engine {
                 .enumerate()
                 .filter(|(_, d)| d.is_slipping());
             self.set.extend(slipping.map(|(j, d)| (j, d.sign())));
-            self.key.clear();
-            self.key.extend(&self.set);
         }
         for &j in &changes {
             let d = self.trial[j];
@@ -366,18 +363,11 @@ impl Engine {
                 let at = self.set.partition_point(|&(i, _)| i < j);
                 let present = self.set.get(at).is_some_and(|&(i, _)| i == j);
                 match (present, slips) {
-                    (true, true) => {
-                        self.set[at].1 = d.sign();
-                        self.key.replace(at, (j, d.sign()));
-                    }
+                    (true, true) => self.set[at].1 = d.sign(),
                     (true, false) => {
                         self.set.remove(at);
-                        self.key.remove(at);
                     }
-                    (false, true) => {
-                        self.set.insert(at, (j, d.sign()));
-                        self.key.insert(at, (j, d.sign()));
-                    }
+                    (false, true) => self.set.insert(at, (j, d.sign())),
                     (false, false) => {}
                 }
             }
@@ -605,8 +595,8 @@ impl Engine {
         // ([`Self::totals`]) in the pass that unpacks the transform.
         self.reach[axis] = None;
         let elastic = [&self.epx[..], &self.epy, &self.eqx, &self.eqy];
-        ops.convolve_with(&self.full, fft, |pairs| {
-            kernels::from_complex_totals(pairs, [hp, hq], [tp, tq], u, elastic)
+        ops.convolve_with(&self.full, fft, |bins| {
+            kernels::from_complex_totals(bins, [hp, hq], [tp, tq], u, elastic)
         });
         // `full` is filled afresh before each use: hand its buffer over.
         std::mem::swap(g, &mut self.full);
@@ -985,6 +975,7 @@ impl Contact {
         // The cache is lent out while its entry fills the engine (no
         // allocation: an empty cache holds none).
         let mut cache = std::mem::replace(&mut e.cache, ResponseCache::new(0));
+        e.key.set_to(&e.set);
         if let Some(slot) = cache.find(&e.key) {
             // A set met before: its slip rates, and p and q from the kept
             // responses or by one FFT.
@@ -1015,6 +1006,7 @@ impl Contact {
             return false;
         }
         let e = &mut w.engine;
+        // `key` is the set's still: the rates do not change the set.
         e.slot = e.cache.insert(
             &e.key,
             e.u1,
@@ -1093,6 +1085,7 @@ impl Contact {
                 e.own_responses(&cache);
                 e.cache = cache;
             }
+            e.key.set_to(&e.set);
             e.cache.add_second(
                 slot,
                 &e.key,
@@ -1657,7 +1650,7 @@ impl Contact {
 #[cfg(test)]
 mod tests {
     use super::super::tests::direction;
-    use super::{Engine, SetKey};
+    use super::Engine;
     use proptest::prelude::*;
 
     proptest! {
@@ -1689,7 +1682,6 @@ mod tests {
                     .map(|(j, d)| (j, d.sign()))
                     .collect();
                 prop_assert_eq!(&e.set, &expected);
-                prop_assert_eq!(&e.key, &SetKey::of(&expected));
                 prop_assert_eq!(&e.dirs, &e.trial);
                 for (j, d) in e.trial.iter().enumerate() {
                     let slips = d.is_slipping();

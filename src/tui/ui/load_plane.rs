@@ -29,7 +29,7 @@ impl ratatui::widgets::Widget for LoadPlane<'_> {
 }
 
 fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Theme) {
-    let cycle = app.case().cycle;
+    let cycle = app.case().cycle.clone();
     let cycle_points: Vec<(f64, f64)> = (0..=CYCLE_SAMPLES)
         .map(|i| {
             let p = cycle.at(TWO_PI * i as f64 / CYCLE_SAMPLES as f64);

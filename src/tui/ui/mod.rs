@@ -10,6 +10,7 @@ mod slip;
 mod slip_map;
 mod status;
 mod sweep_view;
+mod tour;
 mod tractions;
 
 use ratatui::buffer::Buffer;
@@ -45,6 +46,19 @@ fn draw_screen(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         too_small(frame, area, theme);
         return;
     }
+    // The tour's caption sits at the foot; the view draws above it.
+    let area = match app.tour() {
+        Some((index, stop)) => {
+            let [view, caption] = Layout::vertical([
+                Constraint::Fill(1),
+                Constraint::Length(tour::CAPTION_HEIGHT),
+            ])
+            .areas(area);
+            frame.render_widget(tour::Caption { index, stop, theme }, caption);
+            view
+        }
+        None => area,
+    };
     if app.view() == View::Sweep {
         sweep_view::render(frame, area, app, theme);
     } else if app.view() == View::Regime {
@@ -106,6 +120,8 @@ pub fn asciify(buf: &mut Buffer) {
             '±' => "+",
             '«' | '»' => ">",
             '▶' => ">",
+            '█' => "#",
+            '░' => "-",
             '‖' => "|",
             '↑' => "^",
             '↓' => "v",
