@@ -146,7 +146,7 @@ fn readable(p: &CaseParams, s: &Outcome, history: &[f64]) -> String {
         Verdict::Shakedown(ShakedownProof::Converged)
         | Verdict::CyclicSlip
         | Verdict::Ratchetting { .. } => format!(
-            "W changed by less than 0.01 % over {} successive cycles",
+            "W changed by less than 0.01 % over {} successive cycles, its level known to 0.04 %",
             shakedown::stepping::steady::SETTLE_CYCLES
         ),
         Verdict::GrossSlip(_) | Verdict::Separation(_) => {
