@@ -733,6 +733,8 @@ impl Stepper {
             dissipation: last.map_or(0.0, |r| r.dissipation),
             cycles: last.map_or(0, |r| r.cycle),
             rotation_per_cycle: last.map_or(0.0, |r| r.rotation),
+            level: None,
+            steady_rotation: None,
         };
         report.events.push(event);
         report.events.push(Event::SteadyStateReached(outcome));
@@ -837,11 +839,24 @@ impl Stepper {
             Verdict::Shakedown(ShakedownProof::SafeState(_)) => (0.0, 0.0),
             _ => (last.dissipation, last.rotation),
         };
+        // Cyclic slip and ratchetting carry the levels their cycles approach.
+        let (level, steady_rotation) = match verdict {
+            Verdict::CyclicSlip | Verdict::Ratchetting { .. } => {
+                let state = last.classify();
+                (
+                    super::steady::dissipation_level(&self.history),
+                    super::steady::steady_rotation(&self.history, state),
+                )
+            }
+            _ => (None, None),
+        };
         let outcome = Outcome {
             verdict,
             dissipation,
             cycles: self.history.len(),
             rotation_per_cycle,
+            level,
+            steady_rotation,
         };
         report.events.push(Event::SteadyStateReached(outcome));
         self.status = Status::Steady(outcome);

@@ -13,6 +13,7 @@ mod figure_guarantees;
 mod figures;
 mod history_trim;
 mod kernels;
+mod level;
 mod limit;
 mod numerical_failure;
 mod parser_props;
