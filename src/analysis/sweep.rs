@@ -146,7 +146,7 @@ pub struct Row {
 /// is refused before its job list is allocated.
 pub const MAX_RUNS: usize = 10_000_000;
 
-/// Columns of a sweep's CSV, one [`Row::csv_line`] each.
+/// Columns of a sweep's CSV, one [`crate::io::sweep_csv::row_line`] each.
 pub const CSV_HEADER: &str = "lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle";
 
 impl Row {
@@ -156,26 +156,6 @@ impl Row {
             Ok(s) => RowState::Steady(s.state()),
             Err(_) => RowState::Failed,
         }
-    }
-
-    /// One CSV line (no newline) under [`CSV_HEADER`]. Numbers use Rust's
-    /// shortest round-trip form, so the bytes do not depend on the platform
-    /// or the thread count.
-    pub fn csv_line(&self) -> String {
-        let (w, c, r) = match &self.outcome {
-            Ok(s) => (s.dissipation, s.cycles, s.rotation_per_cycle),
-            Err(_) => (f64::NAN, 0, f64::NAN),
-        };
-        format!(
-            "{},{},\"{}\",{},{},{},{}",
-            self.job.load_factor,
-            self.job.phase,
-            self.initial,
-            self.state(),
-            w,
-            c,
-            r
-        )
     }
 }
 
@@ -198,7 +178,12 @@ impl SweepSpec {
             case.disc,
             case.options,
             case.cycle.center(),
-            case.cycle.slope(),
+            // A polyline has no slope: validated on the ellipse's default
+            // until `with_polyline` puts the polyline in its place.
+            match case.cycle.as_polyline() {
+                Some(_) => 0.625,
+                None => case.cycle.slope(),
+            },
             lists.clone(),
         )?
         .with_polyline(case.cycle.as_polyline().cloned())
@@ -270,7 +255,7 @@ impl SweepSpec {
     }
 
     /// The same sweep over the closed polyline `polyline` in place of the
-    /// ellipse (model.md section 5.4), or back on the ellipse for `None`.
+    /// ellipse (model.md section 5.4); `None` keeps the ellipse.
     /// A polyline has no phase: the phase list must be `[0]`.
     ///
     /// # Errors
@@ -290,6 +275,11 @@ impl SweepSpec {
                     .unwrap_or(0.0),
                 expected: "no phase with a polyline cycle (--cycle)",
             });
+        }
+        if polyline.is_some() {
+            // As `Cycle::slope` of a polyline: none, so that no ellipse is
+            // silently made of it.
+            self.slope = f64::NAN;
         }
         self.polyline = polyline;
         self.validate()?;
@@ -316,7 +306,8 @@ impl SweepSpec {
     pub fn center(&self) -> LoadPoint {
         self.center
     }
-    /// The slope `psi` of the cycle.
+    /// The slope `psi` of the cycle; NaN for a polyline, which has none
+    /// (as [`Cycle::slope`]).
     pub fn slope(&self) -> f64 {
         self.slope
     }

@@ -1023,7 +1023,7 @@ fn a_run_that_ends_refuses_to_step_and_says_why() {
     // Beyond the gross-slip limit the run ends in the first cycle.
     let mut params = default_params();
     params.load_factor = 9.0;
-    params.initial = "OA".into();
+    params.initial = shakedown::Initial::Direct;
     let case = Case::from_params(&params).unwrap();
     let mut app = App::new(
         case,
