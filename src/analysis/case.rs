@@ -20,8 +20,8 @@
 //!     Case::from_params(&odd),
 //!     Err(CaseError::Param(ParamError::BadCount { name: "nodes", .. }))
 //! ));
-//! let path = CaseParams { initial: "3,3".into(), ..CaseParams::default() };
-//! assert!(matches!(Case::from_params(&path), Err(CaseError::Path(_))));
+//! // The initial path is typed: a name is parsed where it is given.
+//! assert!(Initial::parse("3,3").is_err());
 //! ```
 
 use std::f64::consts::PI;
@@ -78,9 +78,10 @@ pub struct CaseParams {
     pub poisson: f64,
     /// Plane strain or plane stress. Default plane strain.
     pub plane: Plane,
-    /// The initial path: `OA`, `a,b` (one of the paper's 24, units of
-    /// `pi/4`) or `optimal` (model.md sections 5.2 and 7.4). Default `OA`.
-    pub initial: String,
+    /// The initial path (model.md sections 5.2 and 7.4): [`Initial::Optimal`]
+    /// is resolved by [`Case::from_params`]. Default [`Initial::Direct`]
+    /// (`OA`).
+    pub initial: Initial,
     /// Interface nodes `N` (even, 16 to 4096). Default 128.
     pub nodes: usize,
     /// Increments per cycle (16 to 100000). Default 400.
@@ -107,7 +108,7 @@ impl Default for CaseParams {
             friction: 0.1,
             poisson: 0.3,
             plane: Plane::Strain,
-            initial: "OA".into(),
+            initial: Initial::Direct,
             nodes: 128,
             steps: 400,
             max_cycles: crate::stepping::steady::DEFAULT_MAX_CYCLES,
@@ -163,7 +164,10 @@ impl Case {
         let mut options = StepOptions::default();
         options.convergence.max_cycles = p.max_cycles;
         options.convergence.safe_state = p.safe_state;
-        let initial = resolve_initial(&p.initial, &material, &cycle, &disc)?;
+        let initial = match &p.initial {
+            Initial::Optimal => crate::analysis::limit::optimal_initial(&material, &cycle, &disc)?,
+            other => other.clone(),
+        };
         Ok(Case {
             material,
             cycle,
@@ -243,7 +247,6 @@ impl Case {
 #[derive(Debug, Clone, Default)]
 pub struct CaseBuilder {
     params: CaseParams,
-    initial: Option<Initial>,
 }
 
 impl CaseBuilder {
@@ -291,7 +294,7 @@ impl CaseBuilder {
     }
     /// The initial path ([`Initial::Optimal`] is resolved by `build`).
     pub fn initial(mut self, initial: Initial) -> Self {
-        self.initial = Some(initial);
+        self.params.initial = initial;
         self
     }
     /// Interface nodes `N` (even, 16 to 4096).
@@ -324,22 +327,7 @@ impl CaseBuilder {
     /// As [`Case::from_params`]: the first setting out of range, or an
     /// `optimal` initial slip that cannot be computed.
     pub fn build(self) -> Result<Case, CaseError> {
-        let mut case = Case::from_params(&CaseParams {
-            // The path is given typed: validate the rest with the default.
-            initial: "OA".into(),
-            ..self.params
-        })?;
-        if let Some(initial) = self.initial {
-            case.initial = match initial {
-                Initial::Optimal => crate::analysis::limit::optimal_initial(
-                    &case.material,
-                    &case.cycle,
-                    &case.disc,
-                )?,
-                other => other,
-            };
-        }
-        Ok(case)
+        Case::from_params(&self.params)
     }
 }
 

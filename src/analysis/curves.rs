@@ -25,6 +25,16 @@ use crate::model::{Cycle, Discretisation, Material};
 ///
 /// As [`shakedown_limit`].
 pub fn limit_at(spec: &SweepSpec, phase: f64, samples: usize) -> Result<Limit, LimitError> {
+    if spec.polyline().is_some() {
+        // A polyline's own vertices, exactly (model.md section 5.4).
+        let job = crate::analysis::sweep::Job {
+            index: 0,
+            load_factor: 0.0,
+            phase,
+            initial: 0,
+        };
+        return cycle_limit(&spec.material(), &spec.cycle(&job)?, &spec.disc(), samples);
+    }
     shakedown_limit(
         &spec.material(),
         spec.center(),

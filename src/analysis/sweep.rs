@@ -178,7 +178,12 @@ impl SweepSpec {
             case.disc,
             case.options,
             case.cycle.center(),
-            case.cycle.slope(),
+            // A polyline has no slope: validated on the ellipse's default
+            // until `with_polyline` puts the polyline in its place.
+            match case.cycle.as_polyline() {
+                Some(_) => 0.625,
+                None => case.cycle.slope(),
+            },
             lists.clone(),
         )?
         .with_polyline(case.cycle.as_polyline().cloned())
@@ -250,7 +255,7 @@ impl SweepSpec {
     }
 
     /// The same sweep over the closed polyline `polyline` in place of the
-    /// ellipse (model.md section 5.4), or back on the ellipse for `None`.
+    /// ellipse (model.md section 5.4); `None` keeps the ellipse.
     /// A polyline has no phase: the phase list must be `[0]`.
     ///
     /// # Errors
@@ -270,6 +275,11 @@ impl SweepSpec {
                     .unwrap_or(0.0),
                 expected: "no phase with a polyline cycle (--cycle)",
             });
+        }
+        if polyline.is_some() {
+            // As `Cycle::slope` of a polyline: none, so that no ellipse is
+            // silently made of it.
+            self.slope = f64::NAN;
         }
         self.polyline = polyline;
         self.validate()?;
@@ -296,7 +306,8 @@ impl SweepSpec {
     pub fn center(&self) -> LoadPoint {
         self.center
     }
-    /// The slope `psi` of the cycle.
+    /// The slope `psi` of the cycle; NaN for a polyline, which has none
+    /// (as [`Cycle::slope`]).
     pub fn slope(&self) -> f64 {
         self.slope
     }

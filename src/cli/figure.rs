@@ -401,6 +401,9 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     if args.name == "design" {
         return super::design::figure(&args);
     }
+    if args.name == "profile" {
+        return super::run::profile_figure(&args);
+    }
     let created = out_dir_of(&args).filter(|d| std::fs::symlink_metadata(d).is_err());
     let result = figure_into(args);
     if let (Err(_), Some(dir)) = (&result, created) {
@@ -839,7 +842,7 @@ fn single_case(args: &FigureArgs, preset: &Preset) -> Result<Case> {
         p.phase = v;
     }
     if let Some(t) = &args.lists.initials {
-        p.initial = t.clone();
+        p.initial = super::parse_initial(t).map_err(|e| super::bad_flag("initial", t, e))?;
     }
     let mut case = Case::from_params(&p).map_err(|e| anyhow!(InputError(e.to_string())))?;
     if let Some(text) = &args.lists.initial_path {

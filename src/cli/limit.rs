@@ -81,7 +81,7 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
     let base = args.case.base(CaseParams::default())?;
     let mut params = args.case.apply(base)?;
     // lambda and the initial path play no part in the limit.
-    params.initial = "OA".into();
+    params.initial = shakedown::model::Initial::Direct;
     if let Some(polyline) = params.cycle.clone() {
         return polyline_limit(&args, params, &polyline);
     }
@@ -331,7 +331,7 @@ fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
     flags.phi = None;
     let mut params = flags.apply(base)?;
     params.phase = phases[0];
-    params.initial = "OA".into();
+    params.initial = shakedown::model::Initial::Direct;
     let case = Case::from_params(&params).map_err(|e| anyhow!(InputError(e.to_string())))?;
     let samples = match &args.samples {
         Some(t) => t

@@ -171,6 +171,18 @@ pub fn custom_path(
         .map_err(|e| anyhow!(InputError(format!("--initial-path {text}: {e}"))))
 }
 
+/// An initial path as the command line names it: `OA`, `a,b` or
+/// `optimal` (resolved when the case is built).
+pub fn parse_initial(
+    text: &str,
+) -> std::result::Result<shakedown::model::Initial, shakedown::model::PathError> {
+    if text.trim().eq_ignore_ascii_case("optimal") {
+        Ok(shakedown::model::Initial::Optimal)
+    } else {
+        shakedown::model::Initial::parse(text)
+    }
+}
+
 /// Load a preset named by a flag; a bad one is an input error.
 pub fn load_preset(flag: &str, name: &str) -> Result<Preset> {
     shakedown::io::preset::load(name)
@@ -330,7 +342,7 @@ impl CaseArgs {
             p.phase = v;
         }
         if let Some(v) = &self.initial {
-            p.initial = v.clone();
+            p.initial = parse_initial(v).map_err(|e| bad_flag("initial", v, e))?;
         }
         Ok(p)
     }

@@ -126,8 +126,7 @@ pub fn spec(
         }
         (Some(t), _) => Initial::parse_list(t).map_err(|e| bad_flag("initial", t, e))?,
         (None, Some(p)) => p.initials.clone(),
-        (None, None) => Initial::parse_list(&params.initial)
-            .map_err(|e| bad_flag("initial", &params.initial, e))?,
+        (None, None) => vec![params.initial.clone()],
     };
     if let Some(text) = &lists.initial_path {
         let material =
@@ -151,7 +150,7 @@ pub fn spec(
     params.load_factor = lambdas[0];
     params.phase = phis[0];
     // The initial paths are already resolved; validate the rest.
-    params.initial = "OA".into();
+    params.initial = Initial::Direct;
     let case = Case::from_params(&params).map_err(|e| case_error(e, given))?;
     // Only a valid case is worth a warning about its cost.
     super::warn_if_slow(params.nodes, params.steps);

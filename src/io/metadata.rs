@@ -211,7 +211,7 @@ pub fn case_metadata(table: &str, case: &Case, initial: &str) -> Metadata {
 pub(crate) fn polyline_entries(m: &mut Metadata, polyline: &crate::model::Polyline) {
     m.set("psi", "none");
     m.set("phi", "none");
-    m.push("cycle", polyline.name());
+    m.push("load-cycle", polyline.name());
 }
 
 pub(crate) fn model_entries(m: &mut Metadata, material: &Material, center: LoadPoint, slope: f64) {

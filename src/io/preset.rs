@@ -22,7 +22,7 @@ use crate::model::path::Initial;
 use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
 
 /// The built-in presets: name and TOML text, in listing order.
-pub const BUILTIN: [(&str, &str); 8] = [
+pub const BUILTIN: [(&str, &str); 9] = [
     ("fig3", include_str!("../../presets/fig3.toml")),
     ("fig4", include_str!("../../presets/fig4.toml")),
     ("fig5", include_str!("../../presets/fig5.toml")),
@@ -31,6 +31,7 @@ pub const BUILTIN: [(&str, &str); 8] = [
     ("fig8", include_str!("../../presets/fig8.toml")),
     ("fig9", include_str!("../../presets/fig9.toml")),
     ("regime", include_str!("../../presets/regime.toml")),
+    ("biharmonic", include_str!("../../presets/biharmonic.toml")),
 ];
 
 /// A preset that cannot be used.
@@ -607,7 +608,12 @@ fn case_params(ctx: &Ctx, c: &CaseToml) -> Result<CaseParams, PresetError> {
         p.plane = *v.get_ref();
     }
     if let Some(v) = &c.initial {
-        p.initial = v.get_ref().trim().to_string();
+        let text = v.get_ref().trim();
+        p.initial = if text.eq_ignore_ascii_case("optimal") {
+            Initial::Optimal
+        } else {
+            Initial::parse(text).map_err(|e| ctx.at(v.span(), format!("case.initial: {e}")))?
+        };
     }
     if let Some(v) = &c.nodes {
         p.nodes = *v.get_ref();
@@ -659,14 +665,6 @@ fn case_params(ctx: &Ctx, c: &CaseToml) -> Result<CaseParams, PresetError> {
             None => ctx.whole(message),
         });
     }
-    if !p.initial.eq_ignore_ascii_case("optimal") {
-        if let Err(e) = Initial::parse(&p.initial) {
-            return Err(match &c.initial {
-                Some(v) => ctx.at(v.span(), format!("case.initial: {e}")),
-                None => ctx.whole(format!("case.initial: {e}")),
-            });
-        }
-    }
     Ok(p)
 }
 
@@ -701,9 +699,7 @@ fn sweep_lists(ctx: &Ctx, s: &SweepToml, p: &CaseParams) -> Result<SweepLists, P
     let initials = match &s.initial {
         Some(v) => Initial::parse_list(v.get_ref())
             .map_err(|e| ctx.at(v.span(), format!("sweep.initial: {e}")))?,
-        None => {
-            Initial::parse_list(&p.initial).map_err(|e| ctx.whole(format!("case.initial: {e}")))?
-        }
+        None => vec![p.initial.clone()],
     };
     let runs = load_factors
         .len()

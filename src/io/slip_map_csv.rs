@@ -321,6 +321,8 @@ impl SlipMapHead {
             dissipation: number("dissipation")?,
             cycles: count("cycles")?,
             rotation_per_cycle: number("rotation_per_cycle")?,
+            level: None,
+            steady_rotation: None,
         };
         Ok(Self {
             material,

@@ -59,7 +59,7 @@ pub enum ParamError {
     },
     /// The increments per cycle do not split a polyline cycle into equal
     /// increments per chord (model.md section 5.4).
-    #[error("steps = {steps} is not a multiple of the cycle's {vertices} vertices (each chord gets the same number of increments): use e.g. --steps {}", steps.div_ceil(*vertices) * vertices)]
+    #[error("steps = {steps} is out of range: expected a multiple of the cycle's {vertices} vertices, so that each chord gets the same increments (e.g. {})", steps.div_ceil(*vertices).max(1) * vertices)]
     StepsPerChord {
         /// The increments per cycle given.
         steps: usize,

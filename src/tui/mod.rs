@@ -46,7 +46,7 @@ const IDLE_WAIT: Duration = Duration::from_millis(250);
 pub fn default_params() -> CaseParams {
     CaseParams {
         load_factor: 6.0,
-        initial: "7,-7".into(),
+        initial: crate::model::Initial::Via { a: 7, b: -7 },
         ..CaseParams::default()
     }
 }
