@@ -146,7 +146,7 @@ pub struct Row {
 /// is refused before its job list is allocated.
 pub const MAX_RUNS: usize = 10_000_000;
 
-/// Columns of a sweep's CSV, one [`Row::csv_line`] each.
+/// Columns of a sweep's CSV, one [`crate::io::sweep_csv::row_line`] each.
 pub const CSV_HEADER: &str = "lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle";
 
 impl Row {
@@ -156,26 +156,6 @@ impl Row {
             Ok(s) => RowState::Steady(s.state()),
             Err(_) => RowState::Failed,
         }
-    }
-
-    /// One CSV line (no newline) under [`CSV_HEADER`]. Numbers use Rust's
-    /// shortest round-trip form, so the bytes do not depend on the platform
-    /// or the thread count.
-    pub fn csv_line(&self) -> String {
-        let (w, c, r) = match &self.outcome {
-            Ok(s) => (s.dissipation, s.cycles, s.rotation_per_cycle),
-            Err(_) => (f64::NAN, 0, f64::NAN),
-        };
-        format!(
-            "{},{},\"{}\",{},{},{},{}",
-            self.job.load_factor,
-            self.job.phase,
-            self.initial,
-            self.state(),
-            w,
-            c,
-            r
-        )
     }
 }
 

@@ -248,7 +248,7 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
     .map_err(design_error)?;
     b.finish_and_clear();
     let Some(best) = found.best else {
-        eprintln!("interrupted before any candidate was run");
+        errln!("interrupted before any candidate was run");
         return Ok(ExitCode::from(super::batch::INTERRUPTED));
     };
     // The reproduction: the path's text through `run`'s own flags.
@@ -553,14 +553,14 @@ fn run_frontier(args: &DesignArgs, vertices: usize, budget: Budget, gap: f64) ->
         write_file("--out", out, csv.as_bytes())?;
     }
     if interrupted {
-        eprintln!("interrupted: the rows finished so far are written");
+        errln!("interrupted: the rows finished so far are written");
         return Ok(ExitCode::from(super::batch::INTERRUPTED));
     }
     Ok(ExitCode::SUCCESS)
 }
 
 /// `figure design`: the frontier table (from `--from FILE.csv`, or made now
-/// with `K <= 4` and the frontier's default budget) drawn as design.svg and
+/// with `K <= 8`, as `design --frontier`, and the frontier's default budget) drawn as design.svg and
 /// design.png.
 pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
     use shakedown::figure::design::DesignPlot;
@@ -609,18 +609,15 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
         }
     }
     let text = match &args.from {
-        Some(f) => std::fs::read_to_string(f).map_err(|e| {
-            anyhow!(InputError(format!(
-                "--from {}: cannot read it: {e}",
-                f.display()
-            )))
-        })?,
+        // A frontier table is a few rows: 1 MiB is far more than one can be.
+        Some(f) => shakedown::io::read::read_text_capped(f, 1 << 20)
+            .map_err(|e| anyhow!(InputError(format!("--from {}: {e}", f.display()))))?,
         None => {
             let base = args.model.apply(CaseParams::default())?;
             let case = Case::from_params(&base).map_err(|e| anyhow!(InputError(e.to_string())))?;
             let (csv, interrupted) = frontier_table(
                 &case,
-                4,
+                8,
                 Budget {
                     particles: 16,
                     iterations: 8,
@@ -631,7 +628,7 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
             )?;
             write_file("--out", &csv_path, csv.as_bytes())?;
             if interrupted {
-                eprintln!(
+                errln!(
                     "interrupted: the rows finished so far are in {}; no plot was drawn",
                     csv_path.display()
                 );
@@ -647,8 +644,14 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
         .display()
         .to_string();
     let bad = |e: String| anyhow!(InputError(format!("--from {from}: {e}")));
-    let rows = read_frontier_csv(&text).map_err(bad)?;
     let meta = Metadata::parse(&text);
+    if meta.get("table") != Some("design-frontier") {
+        return Err(bad(format!(
+            "it is a '{}' table: expected the table of design --frontier (table = design-frontier)",
+            shakedown::io::read::escape_text(meta.get("table").unwrap_or("unlabelled"), 40)
+        )));
+    }
+    let rows = read_frontier_csv(&text).map_err(bad)?;
     let center = meta
         .get("center")
         .and_then(|c| parse_point(c).ok())
@@ -671,7 +674,7 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
         style,
     };
     super::figure::write_plot(&plot, &svg, &png)?;
-    eprintln!(
+    errln!(
         "wrote {}, {} and {}",
         svg.display(),
         png.display(),

@@ -234,6 +234,9 @@ fn model_note(base: &CaseParams, used: &CaseParams) -> Vec<String> {
     v
 }
 
+/// A sweep figure's points, and how much of its table they are.
+type Drawn = (Vec<SweepPoint>, Option<Partial>);
+
 /// How much of a sweep figure's table a `--from` CSV holds.
 struct Partial {
     kept: usize,
@@ -320,7 +323,7 @@ fn sweep_points(
     spec: &SweepSpec,
     csv_path: &Path,
     replace: bool,
-) -> Result<std::result::Result<(Vec<SweepPoint>, Option<Partial>), ExitCode>> {
+) -> Result<std::result::Result<Drawn, ExitCode>> {
     let jobs = spec.jobs();
     let keys: Vec<String> = jobs.iter().map(|j| job_key(spec, j)).collect();
     if let Some(from) = &args.from {
@@ -378,7 +381,22 @@ fn sweep_points(
     Ok(Ok((points, None)))
 }
 
-/// Run `shakedown figure`.
+/// The folder a figure is written to: `--out`, else that of `--from`.
+fn out_dir_of(args: &FigureArgs) -> Option<PathBuf> {
+    match (&args.out, &args.from) {
+        (Some(d), _) => Some(d.clone()),
+        (None, Some(f)) => Some(
+            f.parent()
+                .filter(|p| !p.as_os_str().is_empty())
+                .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+        ),
+        (None, None) => None,
+    }
+}
+
+/// Run `shakedown figure`. A refused or failed figure leaves no trace: an
+/// output folder it created is removed again when nothing was written
+/// into it.
 pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     if args.name == "design" {
         return super::design::figure(&args);
@@ -386,6 +404,16 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     if args.name == "profile" {
         return super::run::profile_figure(&args);
     }
+    let created = out_dir_of(&args).filter(|d| std::fs::symlink_metadata(d).is_err());
+    let result = figure_into(args);
+    if let (Err(_), Some(dir)) = (&result, created) {
+        // Only an empty folder: `remove_dir` leaves anything written.
+        let _ = std::fs::remove_dir(dir);
+    }
+    result
+}
+
+fn figure_into(args: FigureArgs) -> Result<ExitCode> {
     let preset = load_preset("figure", &args.name)?;
     let Some(fig) = preset.figure.clone() else {
         return Err(anyhow!(InputError(format!(
@@ -411,17 +439,10 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             }
         }
     }
-    let out_dir = match (&args.out, &args.from) {
-        (Some(d), _) => d.clone(),
-        (None, Some(f)) => f
-            .parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
-        (None, None) => {
-            return Err(anyhow!(InputError(
-                "figure: --out DIR is needed (or --from FILE.csv to redraw)".into()
-            )))
-        }
+    let Some(out_dir) = out_dir_of(&args) else {
+        return Err(anyhow!(InputError(
+            "figure: --out DIR is needed (or --from FILE.csv to redraw)".into()
+        )));
     };
     std::fs::create_dir_all(&out_dir).map_err(|e| {
         anyhow!(InputError(format!(
@@ -911,14 +932,34 @@ fn load_file_of(map: &Path) -> PathBuf {
 /// run. A file that is not such a table, or is cut short, is bad input
 /// named in one line.
 fn read_slip_map_files(from: &Path) -> Result<SlipMap> {
+    use shakedown::io::read::{escape_text, read_text_capped};
     let load = load_file_of(from);
-    let map_text = read("--from", from)?;
-    let load_text = std::fs::read_to_string(&load).map_err(|e| {
+    // Sized by the header (nodes x rows, at most 2^26 cells as the reader
+    // checks), then read through the checked reader: regular files only.
+    let bad = |file: &Path, e: &dyn std::fmt::Display| {
         anyhow!(InputError(format!(
-            "--from {}: cannot read its load table {}: {e}",
-            from.display(),
-            load.display()
+            "--from {}: {e}",
+            escape_text(&file.to_string_lossy(), 200)
         )))
+    };
+    let head_bytes =
+        shakedown::io::read::read_head(from, HEADER_BYTES).map_err(|e| bad(from, &e))?;
+    let head = Metadata::parse(&String::from_utf8_lossy(&head_bytes));
+    let count = |k: &str| head.get(k).and_then(|v| v.parse::<u64>().ok()).unwrap_or(0);
+    let cells = count("nodes").saturating_mul(count("rows")).min(1 << 26);
+    let map_cap = HEADER_BYTES + 64 * cells;
+    let load_cap = HEADER_BYTES + 160 * (count("rows").min(1 << 26) + 1);
+    // Without a slip map's header, its first bytes are enough to say so.
+    let map_text = if cells == 0 {
+        String::from_utf8_lossy(&head_bytes).into_owned()
+    } else {
+        read_text_capped(from, map_cap).map_err(|e| bad(from, &e))?
+    };
+    let load_text = read_text_capped(&load, load_cap).map_err(|e| {
+        bad(
+            from,
+            &format_args!("its load table {}: {e}", load.display()),
+        )
     })?;
     read_slip_map(&map_text, &load_text).map_err(|e| {
         let file = match e.file {

@@ -393,27 +393,47 @@ pub const INTERACTIVE_NODES: usize = 512;
 /// See [`INTERACTIVE_NODES`].
 pub const INTERACTIVE_STEPS: usize = 2000;
 
-/// A rough time for one run to its steady state: 10 ms at the defaults
-/// (128 nodes, 400 increments per cycle). The events of a cycle cost most
-/// of it, and they do not depend on the increments: their part grows as
-/// about `N^2` with the node count (more events a cycle, each an update of
-/// the reduced inverse, `O(N)` while the slip zone is a few arcs; measured 0.11 s at 512 nodes, 0.49 s at
-/// 1024 and 2.2 s at 2048 in a slow hour, `lambda = 5.5`). The increments
-/// add about 40 ns per node and increment per cycle (0.06 s at 1024 nodes
-/// and 1600 increments).
-pub fn expected_run_seconds(nodes: usize, steps: usize) -> f64 {
+/// CPU seconds of one run to its verdict at 400 increments per cycle, by
+/// node count, measured for a fast case (`--lambda 5.5 --phi 0`, cyclic
+/// slip) and a slow one (`--lambda 6 --phi pi/2`, out of phase,
+/// ratchetting): `(nodes, fast, slow)`. Between the two lie the cases
+/// tried; the cost is the events of each cycle (about `N^2` while the
+/// slip zones are a few arcs) times the cycles to a verdict, and out of
+/// phase both grow faster with `N`.
+const RUN_SECONDS: [(f64, f64, f64); 4] = [
+    (512.0, 0.12, 0.08),
+    (1024.0, 0.49, 0.72),
+    (2048.0, 2.22, 22.7),
+    (4096.0, 12.35, 182.6),
+];
+
+/// The expected CPU time of one run, `(fast, slow)` in seconds: the
+/// measured times of [`RUN_SECONDS`] interpolated in `log N` (as `N^2.1`
+/// below 512 nodes), plus the increments beyond 400 a cycle (about
+/// `2.5e-10 N^2` s each: 0.36 s more at 1024 nodes and 1600 increments).
+pub fn expected_run_seconds(nodes: usize, steps: usize) -> (f64, f64) {
     let n = nodes as f64;
-    0.0062 * (n / 128.0).powf(2.1) + 4e-8 * n * steps as f64
+    let at = |pick: fn(&(f64, f64, f64)) -> f64| {
+        let first = &RUN_SECONDS[0];
+        if n <= first.0 {
+            return pick(first) * (n / first.0).powf(2.1);
+        }
+        for w in RUN_SECONDS.windows(2) {
+            if n <= w[1].0 {
+                let f = (n / w[0].0).ln() / (w[1].0 / w[0].0).ln();
+                return pick(&w[0]) * (pick(&w[1]) / pick(&w[0])).powf(f);
+            }
+        }
+        let last = &RUN_SECONDS[RUN_SECONDS.len() - 1];
+        pick(last) * (n / last.0).powi(3)
+    };
+    let extra = 2.5e-10 * n * n * steps.saturating_sub(400) as f64;
+    (at(|r| r.1) + extra, at(|r| r.2) + extra)
 }
 
-/// Warn on stderr (one line) when `--nodes` or `--steps` is above the
-/// interactive range, with the expected time per run.
-pub fn warn_if_slow(nodes: usize, steps: usize) {
-    if nodes <= INTERACTIVE_NODES && steps <= INTERACTIVE_STEPS {
-        return;
-    }
-    let t = expected_run_seconds(nodes, steps);
-    let time = if t < 0.5 {
+/// A time for a warning: `about 3 s`, `about 2 min`.
+fn readable_time(t: f64) -> String {
+    if t < 0.5 {
         "under a second".to_string()
     } else if t < 10.0 {
         format!("about {t:.1} s")
@@ -423,9 +443,29 @@ pub fn warn_if_slow(nodes: usize, steps: usize) {
         format!("about {:.0} min", t / 60.0)
     } else {
         format!("about {:.1} h", t / 3600.0)
+    }
+}
+
+/// Warn on stderr (one line) when `--nodes` or `--steps` is above the
+/// interactive range, with the expected time per run: a range, from the
+/// fast cases to the slow ones ([`expected_run_seconds`]).
+pub fn warn_if_slow(nodes: usize, steps: usize) {
+    if nodes <= INTERACTIVE_NODES && steps <= INTERACTIVE_STEPS {
+        return;
+    }
+    let (fast, slow) = expected_run_seconds(nodes, steps);
+    let (lo, hi) = (fast.min(slow), fast.max(slow));
+    let time = if hi < 2.0 * lo || hi < 0.5 {
+        readable_time(hi)
+    } else {
+        format!(
+            "{} to {} (out of phase, ratchetting runs take longest)",
+            readable_time(lo),
+            readable_time(hi).trim_start_matches("about ")
+        )
     };
     errln!(
-        "warning: --nodes {nodes} --steps {steps} is above the interactive range (nodes <= {INTERACTIVE_NODES}, steps <= {INTERACTIVE_STEPS}): expect {time} per run"
+        "warning: --nodes {nodes} --steps {steps} is above the interactive range (nodes <= {INTERACTIVE_NODES}, steps <= {INTERACTIVE_STEPS}): expect {time} of CPU per run"
     );
 }
 

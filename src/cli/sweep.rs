@@ -202,9 +202,7 @@ pub fn job_key(spec: &SweepSpec, job: &Job) -> String {
     )
 }
 
-fn key(load_factor: f64, phase: f64, initial: &str) -> String {
-    format!("{load_factor},{phase},\"{initial}\"")
-}
+use shakedown::io::sweep_csv::row_key as key;
 
 #[cfg(test)]
 /// The key of a CSV line (see [`job_key`]) after validating the whole row
@@ -255,8 +253,8 @@ pub fn sweep(mut args: SweepArgs) -> Result<ExitCode> {
                 bar.suspend(|| {
                     errln!(
                         "warning: run lambda = {}, phi = {}, initial {} failed: {e}",
-                        row.job.load_factor,
-                        row.job.phase,
+                        shakedown::io::metadata::fmt_number(row.job.load_factor),
+                        shakedown::io::metadata::fmt_number(row.job.phase),
                         row.initial
                     )
                 });
@@ -311,7 +309,7 @@ mod tests {
                 })),
             };
             assert_eq!(row.state(), RowState::Failed);
-            let line = row.csv_line();
+            let line = shakedown::io::sweep_csv::row_line(&row);
             assert!(line.contains(",failed,"), "{line}");
             assert_eq!(row_key(&line), Ok(job_key(&spec, &job).as_str()), "{line}");
         }

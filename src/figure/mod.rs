@@ -17,9 +17,11 @@
 //! * [`data`]: the points a sweep figure draws, read from the runs or back
 //!   from a figure's CSV.
 
+mod axes;
 pub mod data;
 pub mod design;
 pub mod dissipation;
+mod marks;
 pub mod memory;
 pub mod profile;
 pub mod regime;

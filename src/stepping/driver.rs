@@ -4,8 +4,10 @@
 //! the explorer's "to the steady state" all go through [`drive`], so the
 //! loop "step until the steady state" exists once.
 
+use super::options::StepError;
 use super::outcome::Outcome;
-use super::stepper::{Phase, StepError, StepReport, Stepper};
+use super::report::{Phase, StepReport};
+use super::stepper::Stepper;
 
 /// What an observer tells the driver after an increment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

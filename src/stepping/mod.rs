@@ -4,18 +4,21 @@
 //! the one [`Stepper`] and the one driver [`drive`].
 
 mod driver;
+mod options;
 mod outcome;
+mod report;
 pub mod safe_state;
 pub mod steady;
 mod stepper;
+mod straight;
 pub mod verdict;
 mod zones;
 
 pub use driver::{drive, Control, Driven, Goal, Observer, Silent};
-pub use outcome::{GrossSlip, Outcome, Separation, ShakedownProof, Verdict};
+pub use options::{StepError, StepOptions};
+pub use outcome::{GrossSlip, Level, Outcome, Separation, ShakedownProof, Verdict};
+pub use report::{AtCenter, Event, Phase, Status, StepReport};
 pub use safe_state::Certificate;
-pub use stepper::{
-    operators, AtCenter, Event, Phase, Status, StepError, StepOptions, StepReport, Stepper,
-};
+pub use stepper::{operators, Stepper};
 pub use verdict::Trend;
 pub use zones::{slip_zones, zone_changes, SlipZone, ZoneChange};

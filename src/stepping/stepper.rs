@@ -5,198 +5,20 @@
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-use serde::Serialize;
-
 use super::driver::{drive, Control, Driven, Goal, Silent};
+use super::options::{StepError, StepOptions};
 use super::outcome::{GrossSlip, Outcome, Separation, ShakedownProof, Verdict};
+use super::report::{AtCenter, Event, Phase, Status, StepReport};
 use super::safe_state::{self, Certificate, Fall, SafeStateSearch};
-use super::steady::{assess, Approach, Convergence, CycleRecord, SteadyState};
+use super::steady::{assess, Approach, CycleRecord, SteadyState};
+use super::straight::StraightRuns;
 use super::verdict::trend;
-use super::zones::{slip_zones, zone_changes, SlipZone, ZoneChange};
+use super::zones::{slip_zones, zone_changes, SlipZone};
 use crate::contact::{
     Advanced, Contact, ContactEnd, ContactError, ContactEventKind, Operators, SlipDirection,
 };
 use crate::model::path::{entry_waypoints, segments, Initial, Segment};
 use crate::model::{Cycle, Discretisation, LoadPoint, Material};
-
-/// A numerical failure of the stepper. Physical end states (gross slip,
-/// separation) are not errors: they are outcomes.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum StepError {
-    /// The active set of an increment did not settle (model.md section 3.3,
-    /// robustness), even after bisecting the increment
-    /// [`StepOptions::failure_bisections`] times: a numerical failure, kept
-    /// apart from the physical outcomes.
-    #[error(
-        "the active set did not settle at load point {load} ({phase}), even with the increment bisected {bisections} times"
-    )]
-    NotSettled {
-        /// The load point `(x, y)` of the load plane where the active set
-        /// failed to settle.
-        load: LoadPoint,
-        /// Where on the path it happened, in words (transient segment or
-        /// cycle, and increment, both 1-based).
-        phase: String,
-        /// Bisections tried, [`StepOptions::failure_bisections`].
-        bisections: usize,
-    },
-    /// The stepper was given [`Initial::Optimal`], whose slip comes from the
-    /// `lambda_2` linear programme: resolve it first with
-    /// [`crate::analysis::limit::optimal_initial`] (or build the run
-    /// through [`crate::analysis::case::Case`]).
-    #[error("initial path 'optimal' was not resolved to a slip distribution")]
-    UnresolvedOptimal,
-    /// A parameter of the run is out of range.
-    #[error(transparent)]
-    Param(#[from] crate::model::ParamError),
-}
-
-/// Options of the stepper.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct StepOptions {
-    /// Bisections of an increment whose active set does not settle.
-    pub failure_bisections: usize,
-    /// When the run has reached its steady state: the 0.01 % rule on the
-    /// dissipation `W` and the cycle cap (model.md section 6.1).
-    pub convergence: Convergence,
-}
-
-impl Default for StepOptions {
-    fn default() -> Self {
-        Self {
-            failure_bisections: 12,
-            convergence: Convergence::default(),
-        }
-    }
-}
-
-/// Where the stepper is on its path.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Phase {
-    /// In the initial transient: segment index and increment within it.
-    Transient {
-        /// Index of the transient's straight segment (0-based).
-        segment: usize,
-        /// Index of the increment within the segment (0-based).
-        increment: usize,
-    },
-    /// In cycle `cycle` (1-based), `increment` increments done.
-    Cycle {
-        /// The cycle number, 1-based.
-        cycle: usize,
-        /// Increments of the cycle done so far, out of
-        /// [`Discretisation::steps_per_cycle`].
-        increment: usize,
-    },
-}
-
-/// Something the stepper observed during one step.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(tag = "event", rename_all = "kebab-case")]
-pub enum Event {
-    /// The set of slipping nodes or their directions changed.
-    SlipSetChanged {
-        /// Nodes slipping now.
-        slipping: usize,
-        /// Slip zones now.
-        zones: usize,
-        /// What happened to the zones (appeared, split, merged, vanished).
-        changes: Vec<ZoneChange>,
-    },
-    /// Nodes that slipped stuck again (their slip rate reached zero), at
-    /// the exact load point `load` within the increment, at `omega t =
-    /// time` in the cycle (`None` in the transient). The increment has
-    /// `substeps` straight sub-segments with a fixed slip set.
-    AdvancingStick {
-        /// Indices of the nodes that stuck again, with their slip `g`
-        /// locked in (model.md section 3.3).
-        nodes: Vec<usize>,
-        /// Straight sub-segments of the increment with a fixed slip set.
-        substeps: usize,
-        /// `omega t` in `[0, 2 pi)` in the cycle; `None` in the transient.
-        time: Option<f64>,
-        /// The load point `(x, y)` where the nodes stuck.
-        load: LoadPoint,
-    },
-    /// Stick nodes reached `|q| = f p` and started to slip, at the exact
-    /// load point `load` (`omega t = time` in the cycle).
-    SlipEntry {
-        /// Indices of the nodes that started to slip.
-        nodes: Vec<usize>,
-        /// `omega t` in `[0, 2 pi)` in the cycle; `None` in the transient.
-        time: Option<f64>,
-        /// The load point `(x, y)` where they reached the friction limit.
-        load: LoadPoint,
-    },
-    /// The transient is over: the next step is the first of cycle 1.
-    TransientFinished,
-    /// A cycle ended.
-    CycleCompleted {
-        /// The cycle that ended, 1-based.
-        cycle: usize,
-        /// Its dissipation `W`, the paper's `W~` of eq. (16) (model.md
-        /// section 4).
-        dissipation: f64,
-        /// Its net rigid rotation: the change of the mean of the slip `g`
-        /// over the cycle, negative when the disc ratchets forward
-        /// (model.md section 1.3).
-        rotation: f64,
-    },
-    /// The steady state was reached and classified (or the run ended).
-    SteadyStateReached(Outcome),
-    /// The whole interface slides: `|y|` reached `2 pi` (exact,
-    /// interpolated within the increment). The run ends here.
-    GrossSlip(GrossSlip),
-    /// The pressure reached zero: the run ends here.
-    Separation(Separation),
-}
-
-/// Where a transient to the cycle centre `A` left the contact
-/// ([`Stepper::prepare_at_center`]).
-#[derive(Debug, Clone)]
-pub enum AtCenter {
-    /// At `A`, ready for the cycle.
-    Ready(Box<Contact>),
-    /// The transient ended the run (gross slip or separation before `A`).
-    Ended(Outcome),
-}
-
-/// What one call to [`Stepper::step`] did.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct StepReport {
-    /// What happened during the step, in order.
-    pub events: Vec<Event>,
-    /// Straight sub-segments with a fixed slip set (1 unless an event
-    /// happened inside the increment).
-    pub substeps: usize,
-    /// Whether the slip set or a direction changed during the step.
-    pub slip_set_changed: bool,
-    /// Dissipation of this increment.
-    pub dissipation: f64,
-    /// Nodes that went from slip to stick during this step.
-    pub newly_stuck: Vec<usize>,
-    /// LU factorisations computed during this step.
-    pub factorisations: usize,
-    /// Rate problems solved during this step (0 while the slip set holds).
-    pub iterations: usize,
-    /// `Some(s)` when the step stopped at an event at parameter `s` of the
-    /// increment ([`Stepper::set_pause_at_events`]): the contact is at the
-    /// event's load point and the next step finishes the increment.
-    pub partial: Option<f64>,
-}
-
-/// The run's status.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Status {
-    /// No verdict yet: in the transient or in a cycle before the steady
-    /// state.
-    Running,
-    /// Classified; stepping may continue through further cycles.
-    Steady(Outcome),
-    /// Gross slip or separation: no further steps are possible.
-    Ended(Outcome),
-}
 
 /// How far [`Stepper::advance`] got along its part of the increment.
 enum Progress {
@@ -260,17 +82,8 @@ pub struct Stepper {
     /// Node lists of the events of reports handed back to
     /// [`Stepper::step_into`], emptied, for the next events to reuse.
     spare_nodes: Vec<Vec<usize>>,
-    /// Whether a step takes a whole straight run of increments
-    /// ([`Stepper::set_straight_runs`]).
-    straight: bool,
-    /// Increments the step under way takes: 1, or a straight run's.
-    span: usize,
-    /// The end of the straight run of the cycle from each increment, once
-    /// a step has started there (0 until then).
-    run_ends: Vec<usize>,
-    /// Increments of the current transient segment or cycle below this one
-    /// are taken one at a time: a straight run's step did not settle.
-    single_until: usize,
+    /// Whether and how far a step takes a straight run of increments.
+    runs: StraightRuns,
 }
 
 /// Set up the shared pieces of a run once.
@@ -382,10 +195,7 @@ impl Stepper {
             spare_nodes: Vec::new(),
             safe_state: None,
             safe_state_setup: None,
-            straight: false,
-            span: 1,
-            run_ends: vec![0; steps],
-            single_until: 0,
+            runs: StraightRuns::new(steps),
         }
     }
 
@@ -414,7 +224,7 @@ impl Stepper {
         let mut s = Self::with_operators(ops, material, disc, initial, dummy, options);
         s.zone_events = false;
         s.event_reports = false;
-        s.straight = true;
+        s.runs.on = true;
         // The dummy cycle starts at A, so the transient ends exactly there.
         drive(&mut s, Goal::TransientEnd, &mut Silent)?;
         if let Status::Ended(outcome) = s.status {
@@ -588,109 +398,26 @@ impl Stepper {
         match self.phase {
             Phase::Transient { .. } => None,
             Phase::Cycle { increment, .. } => {
-                let (m, r) = self.within_run(increment, s);
+                let (m, r) = self.runs.within(&self.cycle_points, increment, s);
                 Some(cycle_angle(m as f64 + r, self.disc.steps_per_cycle()))
             }
         }
-    }
-
-    /// The increment `m` of the cycle, and the parameter `r` in `[0, 1]` of
-    /// its chord, at parameter `s` of the step from `increment` (a straight
-    /// run of [`Self::span`] increments): where the run's chord passes
-    /// the same load point. One increment: `(increment, s)` itself.
-    fn within_run(&self, increment: usize, s: f64) -> (usize, f64) {
-        if self.span == 1 || s <= 0.0 {
-            return (increment, s);
-        }
-        let pts = &self.cycle_points[increment..=increment + self.span];
-        let (a, b) = (pts[0], pts[self.span]);
-        let (dx, dy) = (b.x() - a.x(), b.y() - a.y());
-        // Where vertex `m` of the run lies along its chord: 0 at the first,
-        // 1 at the last, increasing between (the run goes one way).
-        let along = |m: usize| {
-            if m == self.span {
-                1.0
-            } else {
-                let p = pts[m];
-                ((p.x() - a.x()) * dx + (p.y() - a.y()) * dy) / (dx * dx + dy * dy)
-            }
-        };
-        // The last vertex at or before `s`, by bisection.
-        let (mut lo, mut hi) = (0, self.span);
-        while hi - lo > 1 {
-            let mid = (lo + hi) / 2;
-            if along(mid) <= s {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        let (start, end) = (if lo == 0 { 0.0 } else { along(lo) }, along(lo + 1));
-        (
-            increment + lo,
-            ((s - start) / (end - start)).clamp(0.0, 1.0),
-        )
-    }
-
-    /// The end of the straight run of the cycle's increments from
-    /// `increment`: the last vertex `j` such that the vertices between lie
-    /// on the chord `increment -> j` to within the rounding of the load
-    /// points themselves (a few ulps), each chord going the same way. Along
-    /// such a run the polygon of the increments is that one chord, so a
-    /// step along it follows the same path, with fewer stops.
-    fn run_end(&mut self, increment: usize) -> usize {
-        let steps = self.disc.steps_per_cycle();
-        if self.run_ends[increment] != 0 {
-            return self.run_ends[increment];
-        }
-        let pts = &self.cycle_points;
-        let a = pts[increment];
-        let size = |p: LoadPoint| p.x().abs().max(p.y().abs());
-        // Off the chord `a -> b` by more than the rounding of the points.
-        let off = |p: LoadPoint, b: LoadPoint, scale: f64| {
-            let (dx, dy) = (b.x() - a.x(), b.y() - a.y());
-            ((p.x() - a.x()) * dy - (p.y() - a.y()) * dx).abs()
-                > 64.0 * f64::EPSILON * scale * dx.hypot(dy)
-        };
-        // Grow the run while each next vertex goes on the same way, in line
-        // with the run so far ...
-        let mut end = increment + 1;
-        let mut scale = size(a).max(size(pts[end]));
-        while end < steps {
-            let (last, b) = (pts[end], pts[end + 1]);
-            let forward =
-                (b.x() - last.x()) * (b.x() - a.x()) + (b.y() - last.y()) * (b.y() - a.y());
-            let wider = scale.max(size(b));
-            if forward <= 0.0 || off(b, last, wider) {
-                break;
-            }
-            scale = wider;
-            end += 1;
-        }
-        // ... then hold every vertex between to the whole chord, cutting
-        // the run at the first one off it (rarely, if ever: a slow drift).
-        while let Some(m) = (increment + 1..end).find(|&m| off(pts[m], pts[end], scale)) {
-            end = m;
-        }
-        self.run_ends[increment] = end;
-        end
     }
 
     /// Increments the next step takes: the rest of the transient segment
     /// or of the straight run of the cycle when [`Stepper::set_straight_runs`]
     /// asked for it, else 1.
     fn next_span(&mut self) -> usize {
-        if !self.straight || self.resume.is_some() || self.contact.pauses_at_events() {
+        if self.resume.is_some() || self.contact.pauses_at_events() {
             return 1;
         }
         match self.phase {
-            Phase::Transient { segment, increment } if increment >= self.single_until => {
-                self.transient[segment].increments - increment
+            Phase::Transient { segment, increment } => self
+                .runs
+                .span_in_segment(increment, self.transient[segment].increments),
+            Phase::Cycle { increment, .. } => {
+                self.runs.span_in_cycle(&self.cycle_points, increment)
             }
-            Phase::Cycle { increment, .. } if increment >= self.single_until => {
-                self.run_end(increment) - increment
-            }
-            _ => 1,
         }
     }
 
@@ -699,13 +426,13 @@ impl Stepper {
         match self.phase {
             Phase::Transient { segment, increment } => {
                 let seg = &self.transient[segment];
-                seg.at((increment as f64 + s * self.span as f64) / seg.increments as f64)
+                seg.at((increment as f64 + s * self.runs.span as f64) / seg.increments as f64)
             }
-            Phase::Cycle { increment, .. } if self.span > 1 => {
+            Phase::Cycle { increment, .. } if self.runs.span > 1 => {
                 // A straight run: its chord.
                 let (a, b) = (
                     self.cycle_points[increment],
-                    self.cycle_points[increment + self.span],
+                    self.cycle_points[increment + self.runs.span],
                 );
                 if s == 1.0 {
                     b
@@ -806,12 +533,12 @@ impl Stepper {
             return Ok(());
         }
         let events_before = report.events.len();
-        self.span = self.next_span();
+        self.runs.span = self.next_span();
         let start = self.resume.take().unwrap_or(0.0);
-        let result = if self.span > 1 {
+        let result = if self.runs.span > 1 {
             // A straight run: no bisection of it (a failure is taken one
             // increment at a time below).
-            self.contact.set_segment_increments(self.span);
+            self.contact.set_segment_increments(self.runs.span);
             let result = self.advance(start, 1.0, self.options.failure_bisections, report);
             self.contact.set_segment_increments(1);
             result
@@ -820,30 +547,30 @@ impl Stepper {
         };
         match result {
             Ok(Progress::Done) => {}
-            Err(ContactError::NotSettled { .. }) if self.span > 1 => {
+            Err(ContactError::NotSettled { .. }) if self.runs.span > 1 => {
                 // The rest of the run one increment at a time, from the
                 // increment where the contact stopped.
                 let reached = self.contact.last_increment().reached;
                 let (from, increment, r) = match self.phase {
                     Phase::Transient { increment, .. } => {
                         // Equal increments.
-                        let at = reached * self.span as f64;
-                        let m = (at.floor() as usize).min(self.span - 1);
+                        let at = reached * self.runs.span as f64;
+                        let m = (at.floor() as usize).min(self.runs.span - 1);
                         (increment, increment + m, at - m as f64)
                     }
                     Phase::Cycle { increment, .. } => {
-                        let (m, r) = self.within_run(increment, reached);
+                        let (m, r) = self.runs.within(&self.cycle_points, increment, reached);
                         (increment, m, r)
                     }
                 };
-                self.single_until = from + self.span;
+                self.runs.refuse_below(from + self.runs.span);
                 self.increments += increment - from;
                 match &mut self.phase {
                     Phase::Transient { increment: i, .. } | Phase::Cycle { increment: i, .. } => {
                         *i = increment
                     }
                 }
-                self.span = 1;
+                self.runs.span = 1;
                 self.resume = (r > 0.0).then_some(r.min(1.0));
                 self.after_increment(events_before, report);
                 return Ok(());
@@ -867,10 +594,10 @@ impl Stepper {
                 return Ok(());
             }
         }
-        self.increments += self.span;
+        self.increments += self.runs.span;
         self.after_increment(events_before, report);
         self.move_on(report);
-        self.span = 1;
+        self.runs.span = 1;
         Ok(())
     }
 
@@ -1006,6 +733,8 @@ impl Stepper {
             dissipation: last.map_or(0.0, |r| r.dissipation),
             cycles: last.map_or(0, |r| r.cycle),
             rotation_per_cycle: last.map_or(0.0, |r| r.rotation),
+            level: None,
+            steady_rotation: None,
         };
         report.events.push(event);
         report.events.push(Event::SteadyStateReached(outcome));
@@ -1030,7 +759,7 @@ impl Stepper {
     fn move_on(&mut self, report: &mut StepReport) {
         match self.phase {
             Phase::Transient { segment, increment } => {
-                let next = increment + self.span;
+                let next = increment + self.runs.span;
                 if next >= self.transient[segment].increments
                     && self.transient[segment].to == self.cycle.center()
                 {
@@ -1042,13 +771,13 @@ impl Stepper {
                         increment: next,
                     };
                 } else if segment + 1 < self.transient.len() {
-                    self.single_until = 0;
+                    self.runs.refuse_none();
                     self.phase = Phase::Transient {
                         segment: segment + 1,
                         increment: 0,
                     };
                 } else {
-                    self.single_until = 0;
+                    self.runs.refuse_none();
                     self.phase = Phase::Cycle {
                         cycle: 1,
                         increment: 0,
@@ -1058,7 +787,7 @@ impl Stepper {
                 }
             }
             Phase::Cycle { cycle, increment } => {
-                let next = increment + self.span;
+                let next = increment + self.runs.span;
                 if next < self.disc.steps_per_cycle() {
                     self.phase = Phase::Cycle {
                         cycle,
@@ -1088,7 +817,7 @@ impl Stepper {
             rotation: done.rotation,
         });
         self.history.push(done);
-        self.single_until = 0;
+        self.runs.refuse_none();
         self.phase = Phase::Cycle {
             cycle: cycle + 1,
             increment: 0,
@@ -1110,11 +839,24 @@ impl Stepper {
             Verdict::Shakedown(ShakedownProof::SafeState(_)) => (0.0, 0.0),
             _ => (last.dissipation, last.rotation),
         };
+        // Cyclic slip and ratchetting carry the levels their cycles approach.
+        let (level, steady_rotation) = match verdict {
+            Verdict::CyclicSlip | Verdict::Ratchetting { .. } => {
+                let state = last.classify();
+                (
+                    super::steady::dissipation_level(&self.history),
+                    super::steady::steady_rotation(&self.history, state),
+                )
+            }
+            _ => (None, None),
+        };
         let outcome = Outcome {
             verdict,
             dissipation,
             cycles: self.history.len(),
             rotation_per_cycle,
+            level,
+            steady_rotation,
         };
         report.events.push(Event::SteadyStateReached(outcome));
         self.status = Status::Steady(outcome);
@@ -1241,7 +983,7 @@ impl Stepper {
     /// only the stops between events go. [`Stepper::run_to_steady`] takes
     /// straight runs.
     pub fn set_straight_runs(&mut self, on: bool) {
-        self.straight = on;
+        self.runs.on = on;
     }
 
     /// Report [`Event::SlipSetChanged`] at every change of the slip set

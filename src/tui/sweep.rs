@@ -374,3 +374,29 @@ pub fn time_left(
         per_run * total.saturating_sub(done) as f64,
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use std::time::{Duration, Instant};
+
+    use super::time_left;
+
+    #[test]
+    fn the_time_left_is_the_rate_so_far() {
+        let start = Instant::now() - Duration::from_secs(10);
+        // 5 runs in 10 s since the start, 10 left: about 20 s.
+        let left = time_left(Some((start, 5)), 10, 20, true).unwrap();
+        assert!((left.as_secs_f64() - 20.0).abs() < 0.5, "{left:?}");
+        assert_eq!(
+            time_left(Some((start, 5)), 5, 20, true),
+            None,
+            "none done yet"
+        );
+        assert_eq!(
+            time_left(Some((start, 0)), 5, 20, false),
+            None,
+            "not running"
+        );
+        assert_eq!(time_left(None, 5, 20, true), None);
+    }
+}

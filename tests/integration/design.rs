@@ -231,3 +231,26 @@ fn design_refuses_bad_input() {
         assert_eq!(err.trim().lines().count(), 1, "{err}");
     }
 }
+
+/// `figure design --from` reads only the frontier's own table, through the
+/// capped reader: another table, a FIFO and a missing file are refused
+/// with one line and exit 2, and nothing is drawn.
+#[test]
+fn figure_design_refuses_what_is_not_a_frontier_table() {
+    let dir = super::common::scratch("figure_design_from");
+    let other = dir.join("other.csv");
+    std::fs::write(
+        &other,
+        "# shakedown = 0.1.0\n# table = sweep\nlambda,phi,initial\n",
+    )
+    .unwrap();
+    let missing = dir.join("missing.csv");
+    for from in [&other, &missing, &std::path::PathBuf::from("/dev/zero")] {
+        let o = shakedown(&["figure", "design", "--from", from.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{from:?}");
+        let err = super::common::stderr(&o);
+        assert!(err.contains("--from"), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+    assert!(!dir.join("design.svg").exists());
+}

@@ -761,6 +761,11 @@ fn the_table_covers_the_issue_keys() {
         (KeyCode::Char('c'), KeyModifiers::CONTROL, Action::Interrupt),
     ] {
         for mode in MODES {
+            // While the tour has the keys, Esc leaves it.
+            let action = match (mode, action) {
+                (Mode::Tour, Action::Back) => Action::TourLeave,
+                _ => action,
+            };
             assert_eq!(
                 shakedown::tui::keys::action_for(&KeyEvent::new(code, mods), mode),
                 Some(action)
@@ -1157,4 +1162,91 @@ fn assert_restarted_on_path(app: &App) {
     assert_eq!(app.increments(), 0);
     let notice = app.notice().unwrap_or_default();
     assert!(notice.starts_with("path "), "notice: {notice}");
+}
+
+/// The tour from `T`: `n` and `N` walk its stops; a compare stop runs its
+/// first case to the steady state, pins it and runs the second; the last
+/// stop is the regime map; `Esc` gives every key its usual meaning back.
+#[test]
+fn the_tour_walks_its_stops_and_hands_over() {
+    use shakedown::analysis::case::CaseParams;
+    use shakedown::tui::app::tour::STOPS;
+    let params = CaseParams {
+        nodes: 32,
+        steps: 100,
+        ..default_params()
+    };
+    let case = Case::from_params(&params).unwrap();
+    let mut app = App::with_sweep(case, Config::default(), Ok(common::tiny_sweep_source()));
+    app.set_regime_source(Ok(common::tiny_regime_source()));
+    key(&mut app, KeyCode::Char('T'));
+    assert_eq!(app.mode(), Mode::Tour);
+    assert_eq!(app.tour().map(|(k, _)| k), Some(0));
+    // While the tour has the keys, `n` is the next stop, not a step.
+    key(&mut app, KeyCode::Char('n'));
+    key(&mut app, KeyCode::Char('n'));
+    assert_eq!(app.tour().map(|(k, _)| k), Some(2));
+    assert_eq!(app.case().initial.name(), "OA");
+    assert_eq!(app.goal(), Some(Goal::Steady));
+    wait_until(&mut app, |a| a.pinned().is_some());
+    let pinned = app.pinned().unwrap().clone();
+    assert_eq!(pinned.path, "OA");
+    assert_ne!(pinned.state, "unclassified", "pinned at its steady state");
+    assert_eq!(app.case().initial.name(), "7,-7");
+    assert_eq!(app.goal(), Some(Goal::Steady), "the second runs to its own");
+    // `N` goes back, and leaves no pin behind.
+    key(&mut app, KeyCode::Char('N'));
+    assert_eq!(app.tour().map(|(k, _)| k), Some(1));
+    assert!(app.pinned().is_none());
+    for _ in 1..STOPS.len() {
+        key(&mut app, KeyCode::Char('n'));
+    }
+    assert_eq!(app.tour().map(|(k, _)| k), Some(STOPS.len() - 1));
+    assert_eq!(app.view(), View::Regime);
+    key(&mut app, KeyCode::Char('n'));
+    assert_eq!(
+        app.tour().map(|(k, _)| k),
+        Some(STOPS.len() - 1),
+        "no stop after the last"
+    );
+    // Esc: the map is the user's, with its own keys.
+    key(&mut app, KeyCode::Esc);
+    assert!(app.tour().is_none());
+    assert_eq!(app.mode(), Mode::Regime);
+    key(&mut app, KeyCode::Esc);
+    assert_eq!(app.mode(), Mode::Stepping);
+    let before = app.increments();
+    key(&mut app, KeyCode::Char('n'));
+    app.settle();
+    assert_eq!(app.increments(), before + 1, "n steps again");
+}
+
+/// `s` shows its progress on the status line: the cycle, the change of
+/// `W` the stopping rule watches, and (once it falls) a gauge and the
+/// time left.
+#[test]
+fn the_steady_goal_shows_its_progress() {
+    use shakedown::analysis::case::CaseParams;
+    let params = CaseParams {
+        nodes: 32,
+        steps: 100,
+        ..default_params()
+    };
+    let case = Case::from_params(&params).unwrap();
+    let mut app = App::with_sweep(case, Config::default(), Ok(common::tiny_sweep_source()));
+    app.apply(Action::ToSteady);
+    wait_until(&mut app, |a| a.cycles().len() >= 4 || a.goal().is_none());
+    assert_eq!(app.goal(), Some(Goal::Steady), "settled in under 4 cycles");
+    let p = app.steady_progress().expect("progress while s runs");
+    assert!(p.cycles >= 4);
+    assert!(p.change.is_some());
+    assert_eq!(p.tolerance, 1e-4);
+    let mut terminal = Terminal::new(TestBackend::new(120, 36)).unwrap();
+    terminal.draw(|f| ui::draw(f, &app)).unwrap();
+    let text = terminal.backend().to_string();
+    assert!(text.contains("» steady"), "{text}");
+    assert!(text.contains("dW/W"), "{text}");
+    if p.left.is_some() {
+        assert!(text.contains("left"), "{text}");
+    }
 }

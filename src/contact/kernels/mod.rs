@@ -1,6 +1,6 @@
 //! The dense kernels of the contact solver, below the algorithms that use
 //! them: the `O(N)` node passes of the exact increment ([`nodes`]), the
-//! unpacking of the operators' FFT responses ([`packing`]), the kept inverse's lanes
+//! FFT packing of the operators ([`packing`]), the kept inverse's lanes
 //! and triangular passes ([`lanes`]) and a dense LU ([`lu`]). Nothing here
 //! imports from the rest of `contact/` but its tolerances.
 //!
@@ -15,7 +15,8 @@
 //! `x86_64` and uses AVX2 where it exists. The two passes that dominate an
 //! increment ([`end_margins`] and [`slide`]) are written in `pulp`'s
 //! vectors, because the compiler does not vectorise them by itself; the
-//! rest are loops it vectorises.
+//! rest are loops it vectorises, as are the passes that pack a slip vector
+//! into the FFT of [`super::operators`] and its responses out of it.
 //!
 //! Results do not depend on the instruction set: every lane does the scalar
 //! operations in the scalar order (no fused multiply-add is formed: Rust

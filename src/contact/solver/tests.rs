@@ -32,9 +32,10 @@ proptest! {
         prop_assert_eq!(same_directions(&a, &b), a == b);
     }
 
-    /// The differences are the nodes where the sets differ, in node
-    /// order, after what the list held: for sets that differ at a few
-    /// nodes (as at an event) and for unrelated sets, of any length.
+    /// The chunked differences are the nodes where the sets differ,
+    /// in node order, after what the list held: for sets that differ
+    /// at a few nodes (as at an event) and for unrelated sets, of any
+    /// length (whole chunks of 16 and a tail).
     #[test]
     fn push_differences_lists_the_differing_nodes(
         a in proptest::collection::vec(direction(), 0..300),

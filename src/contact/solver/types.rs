@@ -166,15 +166,43 @@ pub(in crate::contact) fn same_directions(a: &[SlipDirection], b: &[SlipDirectio
 }
 
 /// The nodes at which two slip sets' directions differ, appended to `out`
-/// in node order.
+/// in node order. Chunks of 16 nodes are compared at once, as two 128-bit
+/// numbers, and the differing bytes of a chunk that differs give its
+/// nodes: an event changes a node or two of the `N`, and passes with a
+/// branch per node (here and in the set's update) were some 4 % of a
+/// sweep's instructions.
 pub(in crate::contact) fn push_differences(
     a: &[SlipDirection],
     b: &[SlipDirection],
     out: &mut Vec<usize>,
 ) {
+    const CHUNK: usize = 16;
     debug_assert_eq!(a.len(), b.len());
-    let differ = a.iter().zip(b).enumerate().filter(|(_, (x, y))| x != y);
-    out.extend(differ.map(|(j, _)| j));
+    let (xs, ys) = (a.chunks_exact(CHUNK), b.chunks_exact(CHUNK));
+    let (x_tail, y_tail) = (xs.remainder(), ys.remainder());
+    // A chunk's sixteen directions as the bytes of one number (one load).
+    let bytes = |s: &[SlipDirection]| {
+        let chunk: &[SlipDirection; CHUNK] = s.try_into().expect("a whole chunk");
+        u128::from_le_bytes(chunk.map(|d| d as u8))
+    };
+    for (c, (x, y)) in xs.zip(ys).enumerate() {
+        // The bytes that differ mark the nodes, in node order from the
+        // lowest (a loop over the sixteen nodes of a differing chunk, with
+        // a branch each, was most of this function's time).
+        let mut differ = bytes(x) ^ bytes(y);
+        while differ != 0 {
+            let i = (differ.trailing_zeros() / 8) as usize;
+            out.push(c * CHUNK + i);
+            differ &= !(0xff_u128 << (8 * i));
+        }
+    }
+    let from = a.len() - x_tail.len();
+    let differ = x_tail
+        .iter()
+        .zip(y_tail)
+        .enumerate()
+        .filter(|(_, (u, v))| u != v);
+    out.extend(differ.map(|(i, _)| from + i));
 }
 
 /// The result of solving one increment, not yet committed.

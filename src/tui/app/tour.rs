@@ -49,7 +49,7 @@ const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
 pub const STOPS: [Stop; 8] = [
     Stop {
         title: "the stick diamond",
-        caption: "Starting from no slip, the interface sticks everywhere while the load stays in the diamond |x| + |y| <= 2 pi drawn on the load plane (model.md 2.3). The direct path OA stays inside it and locks nothing in. At lambda = 3 the cycle leaves the diamond, slips in its first cycles and then shakes down, as every history does this far below lambda_1 (7).",
+        caption: "From no slip, the interface sticks while the load stays in the diamond |x| + |y| <= 2 pi on the load plane (model.md 2.3): the direct path OA locks nothing in. At lambda = 3 the cycle leaves the diamond, slips in its first cycles and shakes down, as every history does below lambda_1 (7).",
         scene: Scene::Case {
             load_factor: 3.0,
             phase: 0.0,
@@ -59,7 +59,7 @@ pub const STOPS: [Stop; 8] = [
     },
     Stop {
         title: "advancing stick on a transient that leaves it",
-        caption: "The transient 7,-7 leaves the diamond, so the interface slips on its way to A. Where a slip zone shrinks, its nodes stick again and keep the slip they gathered: advancing stick, located at the exact load point (model.md 3.3). The run pauses at each event of 8 nodes or more; the slip panel shows what each node locked in. Space runs on.",
+        caption: "The transient 7,-7 leaves the diamond and slips on its way to A. Where a slip zone shrinks, its nodes stick again and keep the slip they gathered: advancing stick, found at its exact load point (model.md 3.3). The run pauses at each of 8 nodes or more; the slip panel shows what each locked in.",
         scene: Scene::Case {
             load_factor: 6.0,
             phase: 0.0,
@@ -69,7 +69,7 @@ pub const STOPS: [Stop; 8] = [
     },
     Stop {
         title: "history dependence",
-        caption: "Between lambda_1 and lambda_2 whether the disc shakes down depends on the transient (model.md 7, 8: Fig. 3). At lambda = 4.75, phi = 0 the direct path OA shakes down (pinned, x), while 7,-7 locks in a slip that leaves it slipping every cycle (live, o). Both run to their steady states.",
+        caption: "Between lambda_1 and lambda_2 shakedown depends on the transient (model.md 7, 8: Fig. 3). At lambda = 4.75, phi = 0 the direct path OA shakes down (pinned, x), while 7,-7 locks in a slip that leaves it slipping every cycle (live, o). Both run to their steady states.",
         scene: Scene::Compare {
             pinned: (4.75, 0.0, "OA"),
             live: (4.75, 0.0, "7,-7"),
@@ -77,7 +77,7 @@ pub const STOPS: [Stop; 8] = [
     },
     Stop {
         title: "the optimal slip and lambda_2",
-        caption: "lambda_2 is the largest lambda for which some locked-in slip holds the whole cycle in stick: a linear programme whose optimum, 4.90 in phase, gives that slip (model.md 7.3). Started at A with it (7.4), the run at lambda = 4.85 shakes down (live, o), where OA ends in cyclic slip (pinned, x).",
+        caption: "lambda_2 is the largest lambda at which some locked-in slip holds the whole cycle in stick: a linear programme, 4.90 in phase, whose optimum is that slip (model.md 7.3). Started at A with it (7.4), the run at lambda = 4.85 shakes down (live, o) where OA slips (pinned, x).",
         scene: Scene::Compare {
             pinned: (4.85, 0.0, "OA"),
             live: (4.85, 0.0, "optimal"),
@@ -145,8 +145,15 @@ impl App {
         true
     }
 
-    /// Start the tour at its first stop (`--tour`, or `T`).
+    /// Start the tour at its first stop (`--tour`, or `T`). Its stops are
+    /// the paper's elliptical cycles: a polyline cycle (`--cycle`) gives
+    /// way to the default case's cycle.
     pub fn start_tour(&mut self) {
+        if self.case.cycle.as_polyline().is_some() {
+            if let Ok(case) = Case::from_params(&crate::tui::default_params()) {
+                self.case.cycle = case.cycle;
+            }
+        }
         self.go_to_stop(0);
     }
 
@@ -198,7 +205,7 @@ impl App {
             }
             Scene::Compare { pinned, live } => {
                 self.open_named(pinned.0, pinned.1, pinned.2);
-                self.to_steady();
+                self.run_to_steady();
                 pending = Some(live);
             }
             Scene::Regime => {
@@ -212,11 +219,8 @@ impl App {
         }
         self.send_filter();
         self.tour = Some(Tour { stop, pending });
-        self.notice = Some(format!(
-            "tour {}/{}: n next, N back, Esc takes over",
-            stop + 1,
-            STOPS.len()
-        ));
+        // The caption says where the tour is; the footer gives its keys.
+        self.notice = None;
     }
 
     /// Open a case of the tour in the stepping view, running.
@@ -232,7 +236,7 @@ impl App {
         }
     }
 
-    fn to_steady(&mut self) {
+    fn run_to_steady(&mut self) {
         self.running = false;
         self.cursor = None;
         self.goal = Some(Goal::Steady);
@@ -246,7 +250,7 @@ impl App {
         };
         self.pin();
         self.open_named(live.0, live.1, live.2);
-        self.to_steady();
+        self.run_to_steady();
         self.notice = Some("pinned the first run; the second runs to its steady state".into());
     }
 }

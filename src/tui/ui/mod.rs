@@ -49,11 +49,9 @@ fn draw_screen(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     // The tour's caption sits at the foot; the view draws above it.
     let area = match app.tour() {
         Some((index, stop)) => {
-            let [view, caption] = Layout::vertical([
-                Constraint::Fill(1),
-                Constraint::Length(tour::CAPTION_HEIGHT),
-            ])
-            .areas(area);
+            let height = tour::caption_height(stop, area.width);
+            let [view, caption] =
+                Layout::vertical([Constraint::Fill(1), Constraint::Length(height)]).areas(area);
             frame.render_widget(tour::Caption { index, stop, theme }, caption);
             view
         }
@@ -201,7 +199,12 @@ impl Areas {
         let status_height = 4;
         let [body, status] =
             Layout::vertical([Constraint::Fill(1), Constraint::Length(status_height)]).areas(area);
-        let top_height = (body.height * 4).div_ceil(7).max(11);
+        // At least 11 rows for the load plane, unless the bottom row of
+        // panels would keep fewer than 7 (a tour's caption takes room).
+        let top_height = (body.height * 4)
+            .div_ceil(7)
+            .max(11)
+            .min(body.height.saturating_sub(7));
         let [top, bottom] =
             Layout::vertical([Constraint::Length(top_height), Constraint::Fill(1)]).areas(body);
         let plane_width = (top.height * 5 / 2).clamp(24, top.width * 2 / 5);

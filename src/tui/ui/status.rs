@@ -237,7 +237,8 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
             _ => app.last_event().map(str::to_string),
         }
         .unwrap_or_else(|| "–".into());
-        let room = width.saturating_sub(spans.iter().map(Span::width).sum());
+        // One column spare: a line that reaches the edge reads as cut.
+        let room = width.saturating_sub(spans.iter().map(Span::width).sum::<usize>() + 1);
         let notice = app.notice().unwrap_or_default();
         let (n, e) = (notice.chars().count(), event.chars().count());
         let sep_width = sep().width();

@@ -514,7 +514,7 @@ pub(super) fn progress_spans(
     let mut spans = vec![
         label(join.to_string()),
         Span::styled(name, theme.value()),
-        label(" ".to_string()),
+        label(", ".to_string()),
     ];
     if running {
         spans.push(Span::styled(

@@ -3,14 +3,27 @@
 
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
-use ratatui::text::{Line, Span};
-use ratatui::widgets::{Paragraph, Widget, Wrap};
+use ratatui::widgets::{Borders, Padding, Paragraph, Widget, Wrap};
 
 use super::Theme;
 use crate::tui::app::tour::{Stop, STOPS};
 
-/// Rows the caption takes: its border and four lines of text.
-pub const CAPTION_HEIGHT: u16 = 6;
+/// Rows the caption of `stop` takes at `width` columns: its title line and
+/// its text wrapped, at most four lines.
+pub fn caption_height(stop: &Stop, width: u16) -> u16 {
+    let width = usize::from(width.saturating_sub(2)).max(20);
+    let (mut lines, mut used) = (1usize, 0usize);
+    for word in stop.caption.split_whitespace() {
+        let w = word.chars().count();
+        if used > 0 && used + 1 + w > width {
+            lines += 1;
+            used = w;
+        } else {
+            used += w + usize::from(used > 0);
+        }
+    }
+    1 + lines.min(4) as u16
+}
 
 /// The caption of stop `index`.
 pub struct Caption<'a> {
@@ -28,11 +41,9 @@ impl Widget for Caption<'_> {
             STOPS.len(),
             self.stop.title
         );
-        let hint = Line::from(Span::styled(
-            " n next · N back · Space run/pause · Esc take over ",
-            theme.label(),
-        ));
-        let block = theme.panel(title).title_bottom(hint.right_aligned());
+        // A rule with the title over the text: the footer just above
+        // gives the tour's keys.
+        let block = theme.panel(title).borders(Borders::TOP);
         let text = if theme.ascii() {
             self.stop.caption.to_string()
         } else {
@@ -40,7 +51,7 @@ impl Widget for Caption<'_> {
         };
         Paragraph::new(text)
             .wrap(Wrap { trim: true })
-            .block(block)
+            .block(block.padding(Padding::horizontal(1)))
             .render(area, buf);
     }
 }
