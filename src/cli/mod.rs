@@ -768,10 +768,11 @@ mod tests {
         }
     }
 
-    /// Every case flag's error names the flag and the value, and the range
-    /// it quotes is the library's own check.
+    /// Every case flag's error names the flag and the value, and quotes the
+    /// range the library checked (`model::ranges`, the one place it is
+    /// written): a value just outside it is refused by the library itself.
     #[test]
-    fn accepted_ranges_are_the_library_checks() {
+    fn flag_errors_quote_the_range_the_library_checked() {
         let cases = [
             ("lambda", "-1"),
             ("phi", "2000"),
