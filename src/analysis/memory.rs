@@ -286,32 +286,6 @@ pub fn memory_points(runs: &[MemoryRun]) -> Vec<MemoryPoint> {
         .collect()
 }
 
-/// Columns of the memory figure's CSV ([`memory_csv`]): `R` is
-/// [`MemoryPoint::range`], `r` is [`MemoryPoint::stuck_fraction`].
-pub const MEMORY_HEADER: &str = "lambda,phi,R,r,shakedown,cyclic_slip,ratchetting,other";
-
-/// The memory figure's CSV: the header [`MEMORY_HEADER`] and one line per
-/// point, each ending in a newline; an undefined `R` or `r` is an empty
-/// field.
-pub fn memory_csv(points: &[MemoryPoint]) -> String {
-    let opt = |v: Option<f64>| v.map(|v| v.to_string()).unwrap_or_default();
-    let mut out = format!("{MEMORY_HEADER}\n");
-    for p in points {
-        out.push_str(&format!(
-            "{},{},{},{},{},{},{},{}\n",
-            p.load_factor,
-            p.phase,
-            opt(p.range),
-            opt(p.stuck_fraction),
-            p.shakedown,
-            p.cyclic_slip,
-            p.ratchetting,
-            p.other
-        ));
-    }
-    out
-}
-
 /// The smallest `lambda` from which every run ratchets, up to the largest
 /// `lambda` of `points`: the paper's `lambda_3`. `None` when the largest
 /// `lambda` does not ratchet for every transient.

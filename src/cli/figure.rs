@@ -17,7 +17,7 @@ use shakedown::analysis::case::Case;
 use shakedown::analysis::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
 use shakedown::analysis::limit_curve::{curve_csv, limit_curve, parse_curve_csv};
 use shakedown::analysis::memory::{
-    memory_csv, memory_points, memory_runs, ratchetting_onset, MemoryError, MemoryPoint,
+    memory_points, memory_runs, ratchetting_onset, MemoryError, MemoryPoint,
 };
 use shakedown::analysis::regime::{RegimeCell, RegimeMap};
 use shakedown::analysis::slip_map::{slip_map, SlipMap, SlipMapError};
@@ -38,7 +38,7 @@ use shakedown::io::csv::{
     fmt_number, read_slip_map, slip_csv, slip_map_metadata, sweep_metadata, Metadata,
     MetadataError, SlipMapFile,
 };
-use shakedown::io::memory_csv::read_memory_csv;
+use shakedown::io::memory_csv::{memory_csv, read_memory_csv};
 use shakedown::io::output::{check_file_stem, is_nonempty_file, same_file};
 
 use super::batch::{

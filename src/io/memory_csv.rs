@@ -1,10 +1,37 @@
-//! The memory figure's CSV (`figure fig4`, [`MEMORY_HEADER`]) read back for
-//! a redraw: the header must be the figure's (table `memory`, its model and
-//! grid), and every row a valid point of that grid, in order, once.
+//! The memory figure's CSV (`figure fig4`, [`MEMORY_HEADER`]): written by
+//! [`memory_csv`] and read back for a redraw by [`read_memory_csv`], where
+//! the header must be the figure's (table `memory`, its model and grid),
+//! and every row a valid point of that grid, in order, once.
 
-use crate::analysis::memory::{MemoryPoint, MEMORY_HEADER};
+use crate::analysis::memory::MemoryPoint;
 use crate::io::csv::{Metadata, MetadataError};
 use crate::io::read::escape_text;
+
+/// Columns of the memory figure's CSV ([`memory_csv`]): `R` is
+/// [`MemoryPoint::range`], `r` is [`MemoryPoint::stuck_fraction`].
+pub const MEMORY_HEADER: &str = "lambda,phi,R,r,shakedown,cyclic_slip,ratchetting,other";
+
+/// The memory figure's CSV: the header [`MEMORY_HEADER`] and one line per
+/// point, each ending in a newline; an undefined `R` or `r` is an empty
+/// field.
+pub fn memory_csv(points: &[MemoryPoint]) -> String {
+    let opt = |v: Option<f64>| v.map(|v| v.to_string()).unwrap_or_default();
+    let mut out = format!("{MEMORY_HEADER}\n");
+    for p in points {
+        out.push_str(&format!(
+            "{},{},{},{},{},{},{},{}\n",
+            p.load_factor,
+            p.phase,
+            opt(p.range),
+            opt(p.stuck_fraction),
+            p.shakedown,
+            p.cyclic_slip,
+            p.ratchetting,
+            p.other
+        ));
+    }
+    out
+}
 
 /// A memory CSV that cannot be drawn.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -185,5 +212,13 @@ mod tests {
             read_memory_csv(text.as_bytes(), &other, &grid, 2),
             Err(MemoryCsvError::Header(_))
         ));
+    }
+
+    #[test]
+    fn what_is_written_reads_back() {
+        let (m, text) = file("4,0,,0.5,2,0,0,0\n5,0.25,0.1,,0,1,1,0\n");
+        let grid = [(4.0, 0.0), (5.0, 0.25)];
+        let points = read_memory_csv(text.as_bytes(), &m, &grid, 2).unwrap();
+        assert_eq!(m.render() + &memory_csv(&points), text);
     }
 }

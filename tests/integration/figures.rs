@@ -126,7 +126,7 @@ fn fig4_memory_vanishes_in_ratchetting() {
     let (header, rows) = read_csv(&dir.join("fig4.csv"));
     assert_eq!(
         header.join(","),
-        shakedown::analysis::memory::MEMORY_HEADER,
+        shakedown::io::memory_csv::MEMORY_HEADER,
         "{header:?}"
     );
     assert_eq!(rows.len(), 2);
