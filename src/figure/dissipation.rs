@@ -184,6 +184,10 @@ impl DissipationPlot<'_> {
     fn key(&self) -> Key {
         let mut key = Key::default();
         let pts = self.drawn();
+        // A journal column fits two columns of key only with short labels;
+        // the caption says what they abbreviate.
+        let short = self.style == FigureStyle::Paper1Col;
+        let text = |long: &'static str, brief: &'static str| if short { brief } else { long };
         if self.lines {
             for (k, other) in self.others().iter().enumerate() {
                 key.push(
@@ -202,22 +206,34 @@ impl DissipationPlot<'_> {
                 .any(|p| self.diamond(p) && (p.2 != Mark::Shakedown) == slipping)
             {
                 let label = if slipping {
-                    "optimal slip (λ₂ programme): slips"
+                    text("optimal slip (λ₂ programme): slips", "optimal slip: slips")
                 } else {
-                    "optimal slip (λ₂ programme): shakedown"
+                    text(
+                        "optimal slip (λ₂ programme): shakedown",
+                        "optimal slip: shakedown",
+                    )
                 };
                 key.push(Sample::Optimal(slipping), label);
             }
         }
         for mark in Mark::ORDER {
             if pts.iter().any(|p| p.2 == mark && !self.diamond(p)) {
-                key.push(Sample::Mark(mark, self.lines), mark.label());
+                let label = if short {
+                    mark.short_label()
+                } else {
+                    mark.label()
+                };
+                key.push(Sample::Mark(mark, self.lines), label);
             }
         }
         if let Some(l2) = self.limit_drawn() {
             key.push(
                 Sample::Line(Pattern::Dashed, BLACK, 1.0),
-                format!("λ₂ = {} (linear programme)", readable(l2)),
+                format!(
+                    "λ₂ = {} ({})",
+                    readable(l2),
+                    text("linear programme", "lin. prog.")
+                ),
             );
         }
         if self.window().is_some() {
@@ -227,13 +243,16 @@ impl DissipationPlot<'_> {
             );
             key.push(
                 Sample::Bar(LIGHT_GREY, 5.0),
-                "spread of W over the transients",
+                text("spread of W over the transients", "spread over transients"),
             );
         }
         if let Some(l3) = self.lambda_3_drawn() {
             key.push(
                 Sample::Line(Pattern::Dotted, GREY, 2.0),
-                format!("λ₃ = {l3}: every transient ratchets from here"),
+                format!(
+                    "λ₃ = {l3}: {}",
+                    text("every transient ratchets from here", "all ratchet")
+                ),
             );
         }
         key
@@ -248,6 +267,8 @@ impl DissipationPlot<'_> {
     /// Height of a panel over the figure's width, on paper.
     fn panel_aspect(&self) -> f64 {
         match self.style {
+            // Two panels and the key in about 90 x 110 mm.
+            FigureStyle::Paper1Col if self.two_panels() => 0.46,
             FigureStyle::Paper1Col => 0.72,
             _ => 0.5,
         }
@@ -675,5 +696,52 @@ mod tests {
         ];
         assert_eq!(memory_window(&pts), Some((5.0, 7.0)));
         assert_eq!(memory_window(&pts[..1]), None);
+    }
+
+    #[test]
+    fn a_full_key_fits_a_journal_column() {
+        use SteadyState::*;
+        // Every entry fig3's key can have: both optimal diamonds, every
+        // mark, lambda_2, the enlarged range, the spread and lambda_3.
+        let mut pts = vec![
+            p(4.0, "OA", Shakedown, 0.0),
+            p(4.0, "7,-7", Shakedown, 0.0),
+            p(4.0, "optimal", Shakedown, 0.0),
+            p(5.0, "OA", CyclicSlip, 1e-4),
+            p(5.0, "7,-7", NotConverged, 1e-3),
+            p(5.0, "optimal", CyclicSlip, 1e-4),
+            p(6.0, "OA", RatchettingMonotonic, 1e-2),
+            p(6.0, "7,-7", Separation, 0.0),
+            p(7.0, "OA", RatchettingNonMonotonic, 3e-2),
+            p(7.0, "7,-7", RatchettingNonMonotonic, 3e-2),
+            p(7.5, "OA", GrossSlip, 0.0),
+            p(7.5, "7,-7", GrossSlip, 0.0),
+        ];
+        pts.push(SweepPoint {
+            state: None,
+            ..p(4.0, "3,7", Shakedown, 0.0)
+        });
+        let plot = |style, ratchetting| DissipationPlot {
+            points: &pts,
+            axis: Axis::Lambda,
+            ratchetting,
+            lines: false,
+            title: "Fig. 3".into(),
+            show_title: false,
+            style,
+            limit: Some(4.5),
+        };
+        let one = plot(FigureStyle::Paper1Col, RatchettingMarkers::Monotonicity);
+        assert!(one.two_panels() && one.lambda_3_drawn().is_some());
+        assert!(one.key().entries.len() >= 12, "{:?}", one.key());
+        // At most about 90 x 110 mm.
+        assert!(one.aspect() <= 110.0 / 90.0, "{}", one.aspect());
+        // The two-column page keeps the full labels.
+        let two = plot(FigureStyle::Paper2Col, RatchettingMarkers::Edge);
+        assert!(two
+            .key()
+            .entries
+            .iter()
+            .any(|e| e.1.contains("linear programme")));
     }
 }

@@ -85,6 +85,21 @@ impl Mark {
         }
     }
 
+    /// [`Mark::label`] in at most 24 characters, so that a key fits two
+    /// columns in a journal column (`paper-1col`); the caption says the
+    /// rest.
+    pub(crate) fn short_label(self) -> &'static str {
+        match self {
+            Mark::Monotonic => "ratchetting, monotonic",
+            Mark::NonMonotonic => "ratchetting, non-monot.",
+            Mark::GrossSlip => "gross slip (at 0)",
+            Mark::Separation => "separation (at 0)",
+            Mark::NotConverged => "not converged",
+            Mark::Failed => "failed (at 0)",
+            _ => self.label(),
+        }
+    }
+
     /// Two circles, a cross and a closed outline, drawn in this order:
     /// radius (or outline) and style each, in pixels of `pen`; unused
     /// parts are transparent or empty. `small` shrinks the marks (for
