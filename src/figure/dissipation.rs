@@ -268,7 +268,7 @@ impl DissipationPlot<'_> {
     fn panel_aspect(&self) -> f64 {
         match self.style {
             // Two panels and the key in about 90 x 110 mm.
-            FigureStyle::Paper1Col if self.two_panels() => 0.46,
+            FigureStyle::Paper1Col if self.two_panels() => 0.44,
             FigureStyle::Paper1Col => 0.72,
             _ => 0.5,
         }
