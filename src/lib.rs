@@ -46,7 +46,7 @@
 //! # Modules
 //!
 //! * [`model`]: material and its constants, the load plane, the cycle of
-//!   eq. (11), the discretisation, the initial transients and the `A -> C`
+//!   eq. (11) or any closed polyline, the discretisation, the initial transients and the `A -> C`
 //!   entry. Everything is validated on construction.
 //! * [`contact`]: the operators `H` and `|D|`, the reduced solver with its
 //!   factorisation reuse, and one increment of the frictional problem.
@@ -99,7 +99,9 @@ pub mod tui;
 pub use analysis::case::{Case, CaseBuilder, CaseError};
 pub use contact::{Advanced, Contact, ContactEnd, ContactError, Operators, SlipDirection};
 pub use model::PathError;
-pub use model::{Cycle, Discretisation, Initial, LoadPoint, Loads, Material, ParamError, Plane};
+pub use model::{
+    Cycle, Discretisation, Initial, LoadPoint, Loads, Material, ParamError, Plane, Polyline, Shape,
+};
 pub use stepping::steady::{Approach, Convergence, CycleRecord, SteadyState};
 pub use stepping::Trend;
 pub use stepping::{
@@ -111,7 +113,8 @@ pub mod prelude {
     pub use crate::analysis::case::{Case, CaseBuilder, CaseError};
     pub use crate::analysis::limit::Limit;
     pub use crate::analysis::sweep::{Row, SweepLists, SweepSpec};
-    pub use crate::model::{Initial, LoadPoint, Material, Plane};
+    pub use crate::io::cycle::{inline_cycle, read_cycle_file};
+    pub use crate::model::{Cycle, Initial, LoadPoint, Material, Plane, Polyline, Shape};
     pub use crate::stepping::steady::{Approach, SteadyState};
     pub use crate::stepping::{GrossSlip, Outcome, Separation, ShakedownProof, Verdict};
 }

@@ -6,8 +6,11 @@
 # status 0; then that --ascii draws ASCII only and Ctrl-C exits 130; and
 # that SIGTERM leaves a sane terminal (icanon echo, main screen); and that
 # Ctrl-Z and SIGTSTP give the terminal back to an interactive shell (prompt,
-# main screen, icanon echo) and `fg` redraws the panels. Builds nothing
-# itself.
+# main screen, icanon echo) and `fg` redraws the panels; that pausing at an
+# advancing stick shows its episode slip; the guided tour's first two
+# stops; the sweep table scrolling to the selected row; a save that will
+# not overwrite without y; and a custom transient's waypoints. Builds
+# nothing itself.
 #
 #   tests/tmux_tui.sh [path/to/shakedown]    (default target/release/shakedown)
 set -u
@@ -279,6 +282,83 @@ suspend_and_resume() {
 
 suspend_and_resume "\"$bin\"" 1
 suspend_and_resume "sh -c '\"$bin\"; exit \$?'" 2
+
+# start "ARGS" [W H]: the explorer alone in a fresh session, run in the
+# scratch folder (so a save lands there), its status written on exit.
+start() {
+  rm -f "$work/exit" "$work/screen"
+  tm new-session -d -s "$session" -x "${2:-100}" -y "${3:-30}" \
+    "sh -c 'cd \"$work\" && \"$bin\" $1; echo EXIT:\$? > \"$work/exit\"; sleep 30'" \
+    || fail "could not start tmux ($1)"
+}
+# Quit, answering y if a sweep map would be lost, and close the session.
+quit() {
+  tm send-keys -t "$session" q
+  sleep 0.3
+  capture
+  grep -q 'y/n' "$work/screen" && tm send-keys -t "$session" y
+  for _ in $(seq 1 50); do
+    [ -f "$work/exit" ] && break
+    sleep 0.1
+  done
+  [ -f "$work/exit" ] || fail "q did not end the program ($1)"
+  tm kill-session -t "$session" >/dev/null 2>&1
+}
+
+# Advancing stick: k chooses its events, e pauses at them, and the slip
+# panel shows what the nodes locked in during their slip episode.
+start "tui --nodes 64 --steps 200"
+wait_for 'lambda = [0-9]' 15 || fail "advancing stick run: the status line did not appear"
+tm send-keys -t "$session" k
+wait_for 'events: advancing stick' 5 || fail "k did not choose advancing-stick events"
+tm send-keys -t "$session" e
+wait_for 'episode slip max' 20 || fail "paused at an advancing stick, the episode slip is not shown"
+grep -Eq 'Episode slip|episode of the' "$work/screen" || fail "the slip panel does not zoom on the episode"
+echo "tmux_tui: an advancing-stick event shows its episode slip"
+quit "advancing stick"
+
+# The guided tour: its first two stops, n moving on, Esc handing over.
+start "tui --tour --nodes 64 --steps 200" 80 24
+wait_for 'Tour 1/8: the stick diamond' 15 || fail "--tour did not open on its first stop"
+tm send-keys -t "$session" n
+wait_for 'Tour 2/8: advancing stick' 10 || fail "n did not move the tour to its second stop"
+grep -q 'e:on' "$work/screen" || fail "the second stop does not pause at events"
+tm send-keys -t "$session" Escape
+wait_for 'the tour is over' 5 || fail "Esc did not hand the case over"
+grep -q 'Tour 2/8' "$work/screen" && fail "the caption stayed after Esc"
+echo "tmux_tui: the tour's first two stops, and Esc hands over"
+quit "tour"
+
+# The sweep view at 80x24: the table of transients scrolls to the
+# selected row; s asks for a name and will not overwrite without y.
+printf 'mine\n' > "$work/sweep-fig3.csv"
+start "tui --nodes 32 --steps 100" 80 24
+wait_for 'lambda = [0-9]' 15 || fail "sweep run: the status line did not appear"
+tm send-keys -t "$session" v
+wait_for 'sweep view' 10 || fail "v did not open the sweep view"
+for _ in $(seq 1 19); do tm send-keys -t "$session" Down; done
+wait_for '>7,-7' 5 || fail "the selected row 7,-7 is not on screen (the table did not scroll)"
+grep -Eq 'at this x \([0-9]+-[0-9]+ of [0-9]+\)' "$work/screen" || fail "the table does not say which rows it shows"
+echo "tmux_tui: the sweep table scrolls to the selected row"
+tm send-keys -t "$session" s
+wait_for 'save as: sweep-fig3.csv' 5 || fail "s did not ask for the file name"
+tm send-keys -t "$session" Enter
+wait_for 'overwrite\? y/N' 5 || fail "saving over an existing file did not ask first"
+tm send-keys -t "$session" n
+wait_for 'not saved' 5 || fail "n to overwrite? did not say the file was kept"
+[ "$(cat "$work/sweep-fig3.csv")" = "mine" ] || fail "the existing file was replaced without y"
+echo "tmux_tui: a save refuses to overwrite without y"
+quit "sweep"
+
+# A custom transient through two points (issue 66): the waypoints are on
+# the load plane, and the run steps.
+start "tui --initial-path \"-9.64640782328964,-6.282185307179586;1.9767925857663062,4.769947109627885\" --lambda 4.82 --nodes 64 --steps 200"
+wait_for 'lambda = 4.82' 15 || fail "--initial-path: the explorer did not open"
+grep -q '◆1' "$work/screen" && grep -q '◆2' "$work/screen" \
+  || fail "--initial-path: the waypoints are not drawn on the load plane"
+wait_for 'incr [1-9]' 10 || fail "--initial-path: the run does not step"
+echo "tmux_tui: --initial-path draws its waypoints and steps"
+quit "initial path"
 
 # The terminal disappears (an SSH connection drops, the tmux server is
 # killed): the explorer gets SIGHUP and must end, not run on without a

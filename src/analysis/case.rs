@@ -20,17 +20,17 @@
 //!     Case::from_params(&odd),
 //!     Err(CaseError::Param(ParamError::BadCount { name: "nodes", .. }))
 //! ));
-//! let path = CaseParams { initial: "3,3".into(), ..CaseParams::default() };
-//! assert!(matches!(Case::from_params(&path), Err(CaseError::Path(_))));
+//! // The initial path is typed: a name is parsed where it is given.
+//! assert!(Initial::parse("3,3").is_err());
 //! ```
 
 use std::f64::consts::PI;
 
 use serde::Serialize;
 
-use crate::analysis::limit::{shakedown_limit, Limit, LimitError, DEFAULT_SAMPLES};
+use crate::analysis::limit::{cycle_limit, Limit, LimitError, DEFAULT_SAMPLES};
 use crate::model::path::{Initial, PathError};
-use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
+use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane, Polyline};
 use crate::stepping::{Outcome, StepError, StepOptions, Stepper};
 
 /// A case that cannot be built.
@@ -68,15 +68,20 @@ pub struct CaseParams {
     /// The cycle centre `A = (x0, y0)` in the load plane. Default
     /// `(pi, 3 pi / 4)`.
     pub center: (f64, f64),
+    /// A closed polyline of offsets `(u, v)` from the centre in place of
+    /// the ellipse (`--cycle FILE`, model.md section 5.4); `phase` and
+    /// `slope` are then unused. Default none: the paper's ellipse.
+    pub cycle: Option<Polyline>,
     /// The friction coefficient `f`. Default 0.1.
     pub friction: f64,
     /// Poisson's ratio `nu`. Default 0.3.
     pub poisson: f64,
     /// Plane strain or plane stress. Default plane strain.
     pub plane: Plane,
-    /// The initial path: `OA`, `a,b` (one of the paper's 24, units of
-    /// `pi/4`) or `optimal` (model.md sections 5.2 and 7.4). Default `OA`.
-    pub initial: String,
+    /// The initial path (model.md sections 5.2 and 7.4): [`Initial::Optimal`]
+    /// is resolved by [`Case::from_params`]. Default [`Initial::Direct`]
+    /// (`OA`).
+    pub initial: Initial,
     /// Interface nodes `N` (even, 16 to 4096). Default 128.
     pub nodes: usize,
     /// Increments per cycle (16 to 100000). Default 400.
@@ -99,10 +104,11 @@ impl Default for CaseParams {
             phase: 0.0,
             slope: 0.625,
             center: (PI, 0.75 * PI),
+            cycle: None,
             friction: 0.1,
             poisson: 0.3,
             plane: Plane::Strain,
-            initial: "OA".into(),
+            initial: Initial::Direct,
             nodes: 128,
             steps: 400,
             max_cycles: crate::stepping::steady::DEFAULT_MAX_CYCLES,
@@ -145,20 +151,23 @@ impl Case {
     /// They are checked in that order, and the first failure is returned.
     pub fn from_params(p: &CaseParams) -> Result<Case, CaseError> {
         let material = Material::new(p.friction, p.poisson, p.plane)?;
-        let cycle = Cycle::new(
-            LoadPoint::new(p.center.0, p.center.1),
-            p.load_factor,
-            p.slope,
-            p.phase,
-        )?;
+        let center = LoadPoint::new(p.center.0, p.center.1);
+        let cycle = match &p.cycle {
+            None => Cycle::new(center, p.load_factor, p.slope, p.phase)?,
+            Some(polyline) => Cycle::polyline(center, p.load_factor, polyline.clone())?,
+        };
         let disc = Discretisation::new(p.nodes, p.steps)?;
+        cycle.check_steps(p.steps)?;
         if !(1..=100_000).contains(&p.max_cycles) {
             return Err(CaseError::MaxCycles(p.max_cycles));
         }
         let mut options = StepOptions::default();
         options.convergence.max_cycles = p.max_cycles;
         options.convergence.safe_state = p.safe_state;
-        let initial = resolve_initial(&p.initial, &material, &cycle, &disc)?;
+        let initial = match &p.initial {
+            Initial::Optimal => crate::analysis::limit::optimal_initial(&material, &cycle, &disc)?,
+            other => other.clone(),
+        };
         Ok(Case {
             material,
             cycle,
@@ -176,7 +185,7 @@ impl Case {
             self.material,
             self.disc,
             &self.initial,
-            self.cycle,
+            self.cycle.clone(),
             self.options,
         )
     }
@@ -219,23 +228,16 @@ impl Case {
         self.stepper().run_to_steady()
     }
 
-    /// The shakedown limit `lambda_2` of this case's material, centre,
-    /// slope and phase (the linear programme of model.md section 7.3, with
-    /// [`DEFAULT_SAMPLES`] instants of the cycle): its load factor is
-    /// [`Limit::load_factor`].
+    /// The shakedown limit `lambda_2` of this case's material and cycle
+    /// shape (the linear programme of model.md section 7.3; an ellipse at
+    /// [`DEFAULT_SAMPLES`] instants, a polyline at its vertices, which is
+    /// exact): its load factor is [`Limit::load_factor`].
     ///
     /// # Errors
     ///
     /// As [`shakedown_limit`].
     pub fn limit(&self) -> Result<Limit, LimitError> {
-        shakedown_limit(
-            &self.material,
-            self.cycle.center(),
-            self.cycle.slope(),
-            self.cycle.phase(),
-            &self.disc,
-            DEFAULT_SAMPLES,
-        )
+        cycle_limit(&self.material, &self.cycle, &self.disc, DEFAULT_SAMPLES)
     }
 }
 
@@ -245,7 +247,6 @@ impl Case {
 #[derive(Debug, Clone, Default)]
 pub struct CaseBuilder {
     params: CaseParams,
-    initial: Option<Initial>,
 }
 
 impl CaseBuilder {
@@ -269,6 +270,13 @@ impl CaseBuilder {
         self.params.center = (x, y);
         self
     }
+    /// A closed polyline cycle in place of the paper's ellipse (model.md
+    /// section 5.4); `phase` and `slope` are then unused, and `steps` must
+    /// be a multiple of its vertex count.
+    pub fn cycle(mut self, polyline: Polyline) -> Self {
+        self.params.cycle = Some(polyline);
+        self
+    }
     /// The friction coefficient `f`.
     pub fn friction(mut self, friction: f64) -> Self {
         self.params.friction = friction;
@@ -286,7 +294,7 @@ impl CaseBuilder {
     }
     /// The initial path ([`Initial::Optimal`] is resolved by `build`).
     pub fn initial(mut self, initial: Initial) -> Self {
-        self.initial = Some(initial);
+        self.params.initial = initial;
         self
     }
     /// Interface nodes `N` (even, 16 to 4096).
@@ -319,22 +327,7 @@ impl CaseBuilder {
     /// As [`Case::from_params`]: the first setting out of range, or an
     /// `optimal` initial slip that cannot be computed.
     pub fn build(self) -> Result<Case, CaseError> {
-        let mut case = Case::from_params(&CaseParams {
-            // The path is given typed: validate the rest with the default.
-            initial: "OA".into(),
-            ..self.params
-        })?;
-        if let Some(initial) = self.initial {
-            case.initial = match initial {
-                Initial::Optimal => crate::analysis::limit::optimal_initial(
-                    &case.material,
-                    &case.cycle,
-                    &case.disc,
-                )?,
-                other => other,
-            };
-        }
-        Ok(case)
+        Case::from_params(&self.params)
     }
 }
 

@@ -96,10 +96,18 @@ impl Region {
     /// most 99.9 % of the separation bound `2 pi chi / (f beta)` (12.21 for
     /// the paper's material).
     pub fn for_material(material: &Material) -> Self {
+        Self::with_gross_gap(material, GROSS_SLIP_GAP)
+    }
+
+    /// The box with `|y| <= 2 pi - gap`: a wider `gap` keeps the vertices
+    /// further inside the gross-slip line. The frontier's dependence on
+    /// `gap` shows how much the gross-slip line limits what a transient can
+    /// lock in (model.md section 10).
+    pub fn with_gross_gap(material: &Material, gap: f64) -> Self {
         let separation = 2.0 * PI * material.chi() / (material.friction() * material.beta());
         Self {
             x_max: 0.999 * separation,
-            y_max: 2.0 * PI - GROSS_SLIP_GAP,
+            y_max: 2.0 * PI - gap,
         }
     }
 
@@ -720,13 +728,13 @@ pub fn frontier(
     family: Family,
     max_vertices: usize,
     refs: &References,
+    region: Region,
     budget: Budget,
     stop: &Interrupt,
     report: &(dyn Fn(Progress) + Sync),
     row_done: &mut dyn FnMut(&FrontierRow),
 ) -> Result<Vec<FrontierRow>, DesignError> {
     let c = runner.case();
-    let region = Region::for_material(&c.material);
     let center = c.cycle.center();
     let mut rows = Vec::new();
     let mut lo = refs.best_of_25;

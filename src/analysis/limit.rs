@@ -184,6 +184,63 @@ pub fn shakedown_limit(
     })
 }
 
+/// `lambda_2` for any cycle: the ellipse as [`shakedown_limit`] with
+/// `samples`; a polyline at its vertices (`samples` unused; at most
+/// [`MAX_SAMPLES`] of them). The friction
+/// rows are linear in the load, so a slip admissible at the vertices is
+/// admissible on every chord between them (their convex hull): the
+/// polyline's `lambda_2` is exact, and [`Limit::lower_bound`] equals it
+/// (model.md section 5.4).
+///
+/// # Errors
+///
+/// As [`shakedown_limit`].
+pub fn cycle_limit(
+    material: &Material,
+    cycle: &Cycle,
+    disc: &Discretisation,
+    samples: usize,
+) -> Result<Limit, LimitError> {
+    let Some(polyline) = cycle.as_polyline() else {
+        return shakedown_limit(
+            material,
+            cycle.center(),
+            cycle.slope(),
+            cycle.phase(),
+            disc,
+            samples,
+        );
+    };
+    let center = cycle.center();
+    let vertices = polyline.vertices();
+    let m = vertices.len();
+    // The programme holds a rate per vertex, node and sign.
+    if m > MAX_SAMPLES {
+        return Err(LimitError::Samples(m));
+    }
+    let times: Vec<f64> = (0..m).map(|k| 2.0 * PI * k as f64 / m as f64).collect();
+    let ops = Arc::new(Operators::new(disc.nodes()));
+    let contact = Contact::new(*material, Arc::clone(&ops));
+    let points = vertices
+        .iter()
+        .map(|o| LoadPoint::new(center.x() + o.x(), center.y() + o.y()));
+    let lp = Programme::new(&contact, &ops, center, points);
+    let (slip, load_factor, iterations) = lp.solve(&lp.reduced_rows())?;
+    if load_factor >= LAMBDA_CAP * (1.0 - 1e-6) {
+        return Err(LimitError::Unbounded);
+    }
+    let max_violation = lp.max_violation(&slip, load_factor);
+    Ok(Limit {
+        load_factor,
+        lower_bound: load_factor,
+        slip,
+        times,
+        line: false,
+        max_violation,
+        iterations,
+    })
+}
+
 /// One row of [`sample_convergence`]: the sample count `M`, `lambda_M`
 /// (an upper bound) and `lambda_M cos(pi/M)` (a lower bound).
 pub type ConvergenceRow = (usize, f64, f64);
@@ -461,14 +518,7 @@ pub fn optimal_initial(
     cycle: &Cycle,
     disc: &Discretisation,
 ) -> Result<Initial, LimitError> {
-    let limit = shakedown_limit(
-        material,
-        cycle.center(),
-        cycle.slope(),
-        cycle.phase(),
-        disc,
-        DEFAULT_SAMPLES,
-    )?;
+    let limit = cycle_limit(material, cycle, disc, DEFAULT_SAMPLES)?;
     Ok(Initial::Slip {
         name: "optimal".into(),
         slip: Arc::new(limit.slip),

@@ -153,7 +153,7 @@ pub fn memory_runs(
                 spec.material(),
                 spec.disc(),
                 initial,
-                dummy,
+                dummy.clone(),
                 spec.options(),
             );
             let mut total = SlipTally::new(s.contact().slip());
@@ -178,7 +178,7 @@ pub fn memory_runs(
                 Err(e) => (Err(e.clone()), vec![0.0; n], vec![0.0; n]),
                 Ok((Err(outcome), total)) => (Ok(*outcome), total.clone(), vec![0.0; n]),
                 Ok((Ok(contact), total)) => {
-                    let cycle = cycles[job.index];
+                    let cycle = cycles[job.index].clone();
                     // r counts every node that slips after A up to the
                     // verdict, so asymptotic shakedown is run out to its
                     // first cycle without slip: a safe state bounds the

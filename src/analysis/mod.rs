@@ -3,6 +3,7 @@
 //! `lambda_3`.
 
 pub mod case;
+pub mod curves;
 pub mod design;
 pub mod episodes;
 pub mod limit;

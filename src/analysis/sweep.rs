@@ -21,7 +21,7 @@ use crate::analysis::meet::{Meeting, Meets, Trace};
 use crate::analysis::ordered::{run_ordered, Abort, Interrupt, Progress};
 use crate::contact::{Contact, ResponseCache};
 use crate::model::path::Initial;
-use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError};
+use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError, Polyline};
 use crate::stepping::steady::SteadyState;
 use crate::stepping::{
     drive, operators, AtCenter, Control, Driven, Goal, Observer, Outcome, StepError, StepOptions,
@@ -67,6 +67,9 @@ pub struct SweepSpec {
     options: StepOptions,
     center: LoadPoint,
     slope: f64,
+    /// A polyline cycle in place of the ellipse (`--cycle`): then `slope`
+    /// and the phases are unused, and the phase list is `[0]`.
+    polyline: Option<Polyline>,
     load_factors: Vec<f64>,
     phases: Vec<f64>,
     initials: Vec<Initial>,
@@ -143,7 +146,7 @@ pub struct Row {
 /// is refused before its job list is allocated.
 pub const MAX_RUNS: usize = 10_000_000;
 
-/// Columns of a sweep's CSV, one [`Row::csv_line`] each.
+/// Columns of a sweep's CSV, one [`crate::io::sweep_csv::row_line`] each.
 pub const CSV_HEADER: &str = "lambda,phi,initial,state,dissipation,cycles,rotation_per_cycle";
 
 impl Row {
@@ -153,26 +156,6 @@ impl Row {
             Ok(s) => RowState::Steady(s.state()),
             Err(_) => RowState::Failed,
         }
-    }
-
-    /// One CSV line (no newline) under [`CSV_HEADER`]. Numbers use Rust's
-    /// shortest round-trip form, so the bytes do not depend on the platform
-    /// or the thread count.
-    pub fn csv_line(&self) -> String {
-        let (w, c, r) = match &self.outcome {
-            Ok(s) => (s.dissipation, s.cycles, s.rotation_per_cycle),
-            Err(_) => (f64::NAN, 0, f64::NAN),
-        };
-        format!(
-            "{},{},\"{}\",{},{},{},{}",
-            self.job.load_factor,
-            self.job.phase,
-            self.initial,
-            self.state(),
-            w,
-            c,
-            r
-        )
     }
 }
 
@@ -195,9 +178,15 @@ impl SweepSpec {
             case.disc,
             case.options,
             case.cycle.center(),
-            case.cycle.slope(),
+            // A polyline has no slope: validated on the ellipse's default
+            // until `with_polyline` puts the polyline in its place.
+            match case.cycle.as_polyline() {
+                Some(_) => 0.625,
+                None => case.cycle.slope(),
+            },
             lists.clone(),
-        )
+        )?
+        .with_polyline(case.cycle.as_polyline().cloned())
     }
 
     /// A sweep of `lists` on the paper's model: its material, the default
@@ -256,12 +245,49 @@ impl SweepSpec {
             options,
             center,
             slope,
+            polyline: None,
             load_factors: lists.load_factors,
             phases: lists.phases,
             initials: lists.initials,
         };
         spec.validate()?;
         Ok(spec)
+    }
+
+    /// The same sweep over the closed polyline `polyline` in place of the
+    /// ellipse (model.md section 5.4); `None` keeps the ellipse.
+    /// A polyline has no phase: the phase list must be `[0]`.
+    ///
+    /// # Errors
+    ///
+    /// [`ParamError::OutOfRange`] (`phi`) for another phase list;
+    /// [`ParamError::BadCount`] (`steps`) when the increments per cycle are
+    /// not a multiple of the vertex count ([`Cycle::check_steps`]).
+    pub fn with_polyline(mut self, polyline: Option<Polyline>) -> Result<Self, ParamError> {
+        if polyline.is_some() && self.phases.iter().any(|&p| p != 0.0) {
+            return Err(ParamError::OutOfRange {
+                name: "phi",
+                value: self
+                    .phases
+                    .iter()
+                    .copied()
+                    .find(|&p| p != 0.0)
+                    .unwrap_or(0.0),
+                expected: "no phase with a polyline cycle (--cycle)",
+            });
+        }
+        if polyline.is_some() {
+            // As `Cycle::slope` of a polyline: none, so that no ellipse is
+            // silently made of it.
+            self.slope = f64::NAN;
+        }
+        self.polyline = polyline;
+        self.validate()?;
+        Ok(self)
+    }
+    /// The polyline cycle, if the sweep is over one.
+    pub fn polyline(&self) -> Option<&Polyline> {
+        self.polyline.as_ref()
     }
 
     /// The material.
@@ -280,7 +306,8 @@ impl SweepSpec {
     pub fn center(&self) -> LoadPoint {
         self.center
     }
-    /// The slope `psi` of the cycle.
+    /// The slope `psi` of the cycle; NaN for a polyline, which has none
+    /// (as [`Cycle::slope`]).
     pub fn slope(&self) -> f64 {
         self.slope
     }
@@ -304,7 +331,10 @@ impl SweepSpec {
     /// Only for a job that is not from this sweep's lists (those were all
     /// validated by [`SweepSpec::new`]).
     pub fn cycle(&self, job: &Job) -> Result<Cycle, ParamError> {
-        Cycle::new(self.center, job.load_factor, self.slope, job.phase)
+        match &self.polyline {
+            None => Cycle::new(self.center, job.load_factor, self.slope, job.phase),
+            Some(p) => Cycle::polyline(self.center, job.load_factor, p.clone()),
+        }
     }
 
     /// Every run, in output order: `lambda` outermost, then `phi`, then the
@@ -343,7 +373,13 @@ impl SweepSpec {
         }
         for &l in &self.load_factors {
             for &p in &self.phases {
-                Cycle::new(self.center, l, self.slope, p)?;
+                let job = Job {
+                    index: 0,
+                    load_factor: l,
+                    phase: p,
+                    initial: 0,
+                };
+                self.cycle(&job)?.check_steps(self.disc.steps_per_cycle())?;
             }
         }
         Ok(())
@@ -374,7 +410,12 @@ impl SweepSpec {
 
     /// The optimal slip at `A` for `phase`: one linear programme.
     fn optimal_one(&self, ops: &Arc<crate::contact::Operators>, phase: f64) -> OptimalStart {
-        let cycle = Cycle::new(self.center, 0.0, self.slope, phase)?;
+        let cycle = self.cycle(&Job {
+            index: 0,
+            load_factor: 0.0,
+            phase,
+            initial: 0,
+        })?;
         let mut contact = Contact::new(self.material, Arc::clone(ops));
         if let Initial::Slip { slip, .. } = optimal_initial(&self.material, &cycle, &self.disc)? {
             contact.set_slip(&slip);

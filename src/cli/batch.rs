@@ -444,7 +444,7 @@ pub fn stream_sweep(
     bar.set_position(out.kept as u64);
     bar.reset_eta();
     let result = spec.resume_ordered(jobs, out.kept, interrupt, |row| {
-        out.line(&row.csv_line())?;
+        out.line(&shakedown::io::sweep_csv::row_line(&row))?;
         bar.inc(1);
         each(&row, &bar);
         anyhow::Ok(())

@@ -15,7 +15,7 @@ use serde_json::json;
 use shakedown::analysis::case::{Case, CaseParams};
 use shakedown::analysis::design::{
     frontier, initial_path_text, references, search, Budget, Candidate, DesignError, Family,
-    FrontierRow, Progress, Region, Runner, Shape,
+    FrontierRow, Progress, Region, Runner, Shape, GROSS_SLIP_GAP,
 };
 use shakedown::io::csv::case_metadata;
 use shakedown::io::design::{frontier_csv, frontier_line};
@@ -34,7 +34,7 @@ pub struct DesignArgs {
     /// Vertices K of the path between O and A (1..16); with --frontier, the largest K (default 8).
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub vertices: Option<String>,
-    /// Seed of the search's random draws (the same seed and thread count give the same result).
+    /// Seed of the search's random draws (the same seed gives the same result, whatever the thread count).
     #[arg(
         long,
         value_name = "S",
@@ -51,6 +51,9 @@ pub struct DesignArgs {
     /// Swarm generations after the first (default 20; 8 per search with --frontier).
     #[arg(long, value_name = "I", allow_hyphen_values = true)]
     pub iterations: Option<String>,
+    /// How far inside the gross-slip line |y| = 2 pi a vertex must stay (0.001 to 3; default 0.001). A wider gap shows how much that line limits the frontier (docs/model.md section 10).
+    #[arg(long, value_name = "G", allow_hyphen_values = true)]
+    pub gross_gap: Option<String>,
     /// The highest lambda at which a found path shakes down, for K = 1..--vertices and both families, beside lambda_1, the best of the 25 and lambda_2 (CSV).
     #[arg(long)]
     pub frontier: bool,
@@ -71,6 +74,19 @@ fn number<T: std::str::FromStr>(flag: &str, text: &str, accepts: &str) -> Result
             "--{flag} {text}: not a whole number: expected {accepts}"
         )))
     })
+}
+
+/// `--gross-gap G`: the distance a vertex keeps from `|y| = 2 pi`.
+fn gross_gap(text: Option<&str>) -> Result<f64> {
+    let Some(text) = text else {
+        return Ok(GROSS_SLIP_GAP);
+    };
+    match text.trim().parse::<f64>() {
+        Ok(g) if (GROSS_SLIP_GAP..=3.0).contains(&g) => Ok(g),
+        _ => Err(anyhow!(InputError(format!(
+            "--gross-gap {text}: expected a number from 0.001 to 3"
+        )))),
+    }
 }
 
 fn family(text: &str) -> Result<Family> {
@@ -167,13 +183,14 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
         iterations,
         seed,
     };
+    let gap = gross_gap(args.gross_gap.as_deref())?;
     if frontier_mode {
         if let Some(v) = args.case.given("lambda") {
             return Err(anyhow!(InputError(format!(
                 "--lambda {v}: --frontier searches over lambda itself: drop it"
             ))));
         }
-        return run_frontier(&args, vertices, budget);
+        return run_frontier(&args, vertices, budget, gap);
     }
     let Some(lambda_text) = args.case.given("lambda") else {
         return Err(anyhow!(InputError(
@@ -209,7 +226,7 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
     let shape = Shape::new(
         family,
         vertices,
-        Region::for_material(&case.material),
+        Region::with_gross_gap(&case.material, gap),
         case.cycle.center(),
     )
     .map_err(design_error)?;
@@ -231,7 +248,7 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
     .map_err(design_error)?;
     b.finish_and_clear();
     let Some(best) = found.best else {
-        eprintln!("interrupted before any candidate was run");
+        errln!("interrupted before any candidate was run");
         return Ok(ExitCode::from(super::batch::INTERRUPTED));
     };
     // The reproduction: the path's text through `run`'s own flags.
@@ -474,8 +491,10 @@ pub fn frontier_table(
     case: &Case,
     vertices: usize,
     budget: Budget,
+    gap: f64,
     families: &[Family],
 ) -> Result<(String, bool)> {
+    let region = Region::with_gross_gap(&case.material, gap);
     let runner = Runner::new(case);
     let stop = ctrl_c()?;
     let b = bar(None);
@@ -494,17 +513,17 @@ pub fn frontier_table(
                 .push(r.clone());
         };
         frontier(
-            &runner, f, vertices, &refs, budget, stop, &report, &mut done,
+            &runner, f, vertices, &refs, region, budget, stop, &report, &mut done,
         )
         .map_err(design_error)?;
     }
     b.finish_and_clear();
     let mut meta = case_metadata("design-frontier", case, "designed");
     meta.set("lambda", "searched");
-    meta.push("region", {
-        let r = Region::for_material(&case.material);
-        format!("|x| <= {}, |y| <= {}", r.x_max, r.y_max)
-    });
+    meta.push(
+        "region",
+        format!("|x| <= {}, |y| <= {}", region.x_max, region.y_max),
+    );
     meta.push("seed", budget.seed)
         .push("particles", budget.particles)
         .push("iterations", budget.iterations)
@@ -518,25 +537,30 @@ pub fn frontier_table(
     ))
 }
 
-fn run_frontier(args: &DesignArgs, vertices: usize, budget: Budget) -> Result<ExitCode> {
+fn run_frontier(args: &DesignArgs, vertices: usize, budget: Budget, gap: f64) -> Result<ExitCode> {
     let base = args.case.base(CaseParams::default())?;
     let (_, case) = args.case.case(base)?;
     let _lock = prepare_out(args)?;
-    let (csv, interrupted) =
-        frontier_table(&case, vertices, budget, &[Family::Free, Family::Decaying])?;
+    let (csv, interrupted) = frontier_table(
+        &case,
+        vertices,
+        budget,
+        gap,
+        &[Family::Free, Family::Decaying],
+    )?;
     print_stdout(&csv)?;
     if let Some(out) = &args.out {
         write_file("--out", out, csv.as_bytes())?;
     }
     if interrupted {
-        eprintln!("interrupted: the rows finished so far are written");
+        errln!("interrupted: the rows finished so far are written");
         return Ok(ExitCode::from(super::batch::INTERRUPTED));
     }
     Ok(ExitCode::SUCCESS)
 }
 
 /// `figure design`: the frontier table (from `--from FILE.csv`, or made now
-/// with `K <= 4` and the frontier's default budget) drawn as design.svg and
+/// with `K <= 8`, as `design --frontier`, and the frontier's default budget) drawn as design.svg and
 /// design.png.
 pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
     use shakedown::figure::design::DesignPlot;
@@ -585,28 +609,26 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
         }
     }
     let text = match &args.from {
-        Some(f) => std::fs::read_to_string(f).map_err(|e| {
-            anyhow!(InputError(format!(
-                "--from {}: cannot read it: {e}",
-                f.display()
-            )))
-        })?,
+        // A frontier table is a few rows: 1 MiB is far more than one can be.
+        Some(f) => shakedown::io::read::read_text_capped(f, 1 << 20)
+            .map_err(|e| anyhow!(InputError(format!("--from {}: {e}", f.display()))))?,
         None => {
             let base = args.model.apply(CaseParams::default())?;
             let case = Case::from_params(&base).map_err(|e| anyhow!(InputError(e.to_string())))?;
             let (csv, interrupted) = frontier_table(
                 &case,
-                4,
+                8,
                 Budget {
                     particles: 16,
                     iterations: 8,
                     seed: 1,
                 },
+                GROSS_SLIP_GAP,
                 &[Family::Free, Family::Decaying],
             )?;
             write_file("--out", &csv_path, csv.as_bytes())?;
             if interrupted {
-                eprintln!(
+                errln!(
                     "interrupted: the rows finished so far are in {}; no plot was drawn",
                     csv_path.display()
                 );
@@ -622,8 +644,14 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
         .display()
         .to_string();
     let bad = |e: String| anyhow!(InputError(format!("--from {from}: {e}")));
-    let rows = read_frontier_csv(&text).map_err(bad)?;
     let meta = Metadata::parse(&text);
+    if meta.get("table") != Some("design-frontier") {
+        return Err(bad(format!(
+            "it is a '{}' table: expected the table of design --frontier (table = design-frontier)",
+            shakedown::io::read::escape_text(meta.get("table").unwrap_or("unlabelled"), 40)
+        )));
+    }
+    let rows = read_frontier_csv(&text).map_err(bad)?;
     let center = meta
         .get("center")
         .and_then(|c| parse_point(c).ok())
@@ -646,7 +674,7 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
         style,
     };
     super::figure::write_plot(&plot, &svg, &png)?;
-    eprintln!(
+    errln!(
         "wrote {}, {} and {}",
         svg.display(),
         png.display(),

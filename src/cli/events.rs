@@ -157,7 +157,7 @@ pub fn events(args: EventsArgs) -> Result<ExitCode> {
         ))));
     }
     let base = args.case.base(CaseParams::default())?;
-    let (params, case) = args.case.case(base)?;
+    let (_, case) = args.case.case(base)?;
     let _lock = lock_output("--out", &args.out)?;
     let mut s = case.stepper();
     let rows: Vec<EventRow> = collect(&mut s)?
@@ -165,7 +165,7 @@ pub fn events(args: EventsArgs) -> Result<ExitCode> {
         .filter(|r| kind.is_none_or(|k| r.kind == k))
         .filter(|r| r.nodes >= args.min_nodes)
         .collect();
-    let mut meta = case_metadata("events", &case, &params.initial);
+    let mut meta = case_metadata("events", &case, &case.initial.name());
     if let Some(k) = kind {
         meta.push("kind", k);
     }

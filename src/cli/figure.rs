@@ -18,13 +18,12 @@ use shakedown::analysis::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
 use shakedown::analysis::limit_curve::{curve_csv, limit_curve, parse_curve_csv};
 use shakedown::analysis::memory::{
     memory_csv, memory_points, memory_runs, ratchetting_onset, MemoryError, MemoryPoint,
-    MEMORY_HEADER,
 };
 use shakedown::analysis::regime::{RegimeCell, RegimeMap};
 use shakedown::analysis::slip_map::{slip_map, SlipMap, SlipMapError};
 use shakedown::analysis::sweep::Axis;
 use shakedown::analysis::sweep::SweepSpec;
-use shakedown::figure::data::{data_lines, parse_sweep_csv};
+use shakedown::figure::data::parse_sweep_csv;
 use shakedown::figure::dissipation::memory_window;
 use shakedown::figure::FigureError;
 use shakedown::figure::{
@@ -34,7 +33,12 @@ use shakedown::figure::{
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::io::preset::{FigureKind, FigureSpec, Preset};
 
-use shakedown::io::csv::{read_slip_map, slip_csv, slip_map_metadata, sweep_metadata, SlipMapFile};
+use shakedown::analysis::case::CaseParams;
+use shakedown::io::csv::{
+    fmt_number, read_slip_map, slip_csv, slip_map_metadata, sweep_metadata, Metadata,
+    MetadataError, SlipMapFile,
+};
+use shakedown::io::memory_csv::read_memory_csv;
 use shakedown::io::output::{check_file_stem, is_nonempty_file, same_file};
 
 use super::batch::{
@@ -58,9 +62,12 @@ pub struct FigureArgs {
     /// old files stay until the new ones are complete.
     #[arg(long)]
     pub force: bool,
-    /// Redraw from a CSV this figure wrote (NAME.csv; a slip map also reads NAME_load.csv beside it), without running anything. The model flags (e.g. --nodes) only matter for lambda_2.
+    /// Redraw from a CSV this figure wrote (NAME.csv; a slip map also reads NAME_load.csv beside it), without running anything. The figure is drawn with the CSV's model (its header): lambda_2, lambda_3 and the title are those of the data.
     #[arg(long, value_name = "FILE.csv", conflicts_with = "resume")]
     pub from: Option<PathBuf>,
+    /// With --from: draw a partial CSV (an interrupted figure); the caption (and the title, with --title) then says "partial: k of n runs". Without it a partial CSV is refused.
+    #[arg(long, requires = "from")]
+    pub partial: bool,
     /// Continue an interrupted figure: keep the complete rows of DIR/NAME.csv, run the rest, then draw (sweep figures and the regime map).
     #[arg(long)]
     pub resume: bool,
@@ -139,37 +146,160 @@ fn pending_path(csv_path: &Path) -> PathBuf {
     csv_path.with_file_name(format!(".{name}.new"))
 }
 
+/// Largest header read before the rest of a `--from` file is sized.
+const HEADER_BYTES: u64 = 1 << 16;
+
+/// The `# key = value` header of the `--from` file, read through the
+/// checked reader (regular files only, at most [`HEADER_BYTES`]).
+fn from_header(from: &Path) -> Result<Metadata> {
+    let head = shakedown::io::read::read_head(from, HEADER_BYTES).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--from {}: {e}",
+            shakedown::io::read::escape_text(&from.to_string_lossy(), 200)
+        )))
+    })?;
+    Ok(Metadata::parse(&String::from_utf8_lossy(&head)))
+}
+
+/// The model flags of a redraw: those given on the command line, and for
+/// every other one the value the `--from` file's header records, so that
+/// every line derived from the model (lambda_2, the title) is that of the
+/// data. A flag given with another value than the header's is refused
+/// when the header is checked.
+fn header_model(given: &ModelArgs, meta: &Metadata) -> ModelArgs {
+    let mut m = given.clone();
+    let fill = |slot: &mut Option<String>, key: &str| {
+        if slot.is_none() {
+            *slot = meta.get(key).map(str::to_string);
+        }
+    };
+    fill(&mut m.psi, "psi");
+    fill(&mut m.center, "center");
+    fill(&mut m.friction, "friction");
+    fill(&mut m.nu, "nu");
+    fill(&mut m.plane, "plane");
+    fill(&mut m.nodes, "nodes");
+    fill(&mut m.steps, "steps");
+    fill(&mut m.max_cycles, "max-cycles");
+    if meta.get("verdicts") == Some("run-out") {
+        m.run_out = true;
+    }
+    m
+}
+
+/// The keys of a sweep header that say which table it is (the grid), as
+/// against the model it was run with.
+const GRID_KEYS: [&str; 4] = ["table", "lambda", "phi", "initial"];
+
+/// Where the model of a figure differs from its preset's (the paper's), in
+/// a few words for its title and caption: `f = 0.2, N = 32`.
+fn model_note(base: &CaseParams, used: &CaseParams) -> Vec<String> {
+    let mut v = Vec::new();
+    let num = fmt_number;
+    if used.friction != base.friction {
+        v.push(format!("f = {}", num(used.friction)));
+    }
+    if used.poisson != base.poisson {
+        v.push(format!("ν = {}", num(used.poisson)));
+    }
+    if used.plane != base.plane {
+        v.push(format!("plane {}", used.plane));
+    }
+    if used.slope != base.slope {
+        v.push(format!("ψ = {}", num(used.slope)));
+    }
+    if used.center != base.center {
+        v.push(format!(
+            "A = ({}, {})",
+            num(used.center.0),
+            num(used.center.1)
+        ));
+    }
+    if used.nodes != base.nodes {
+        v.push(format!("N = {}", used.nodes));
+    }
+    if used.steps != base.steps {
+        v.push(format!("{} increments per cycle", used.steps));
+    }
+    if used.max_cycles != base.max_cycles {
+        v.push(format!("at most {} cycles", used.max_cycles));
+    }
+    if used.safe_state != base.safe_state {
+        v.push(if used.safe_state {
+            "shakedown proven by safe states".to_string()
+        } else {
+            "shakedown run out".to_string()
+        });
+    }
+    v
+}
+
+/// A sweep figure's points, and how much of its table they are.
+type Drawn = (Vec<SweepPoint>, Option<Partial>);
+
+/// How much of a sweep figure's table a `--from` CSV holds.
+struct Partial {
+    kept: usize,
+    total: usize,
+}
+
 /// The points of a sweep figure's CSV given with `--from`, checked as
 /// `--resume` checks a file: read through a size cap (regular files
-/// only), its header must be this figure's table with this command's
-/// model (so every line derived from the model, such as lambda_2, is that
-/// of the data), and its rows must be valid and complete, in job order.
-fn from_sweep_csv(from: &Path, spec: &SweepSpec, keys: &[String]) -> Result<Vec<SweepPoint>> {
-    let shown = from.display();
-    let meta = sweep_metadata(spec);
+/// only), its header must be this figure's table (the grid of the preset
+/// and the list flags) with the model of `spec` (the file's own, from
+/// [`header_model`]), and its rows must be valid, in job order. A partial
+/// file is refused unless `partial`; then the complete rows are drawn.
+fn from_sweep_csv(
+    from: &Path,
+    spec: &SweepSpec,
+    keys: &[String],
+    table: &str,
+    partial: bool,
+) -> Result<(Vec<SweepPoint>, Option<Partial>)> {
+    let shown = shakedown::io::read::escape_text(&from.to_string_lossy(), 200);
+    let mut meta = sweep_metadata(spec);
+    meta.set("table", table);
     let header = meta.preamble(shakedown::analysis::sweep::CSV_HEADER);
     let cap = header.len() as u64 + 4096 + 512 * (keys.len() as u64 + 1);
     let bad = |e: &dyn std::fmt::Display| anyhow!(InputError(format!("--from {shown}: {e}")));
     let bytes = shakedown::io::read::read_capped(from, cap).map_err(|e| bad(&e))?;
-    let found = shakedown::io::csv::Metadata::parse(&String::from_utf8_lossy(&bytes));
-    meta.check(&found).map_err(|e| {
-        bad(&format_args!(
-            "{e}: it is not this figure's table with these flags (give the flags that made it)"
-        ))
+    let found = Metadata::parse(&String::from_utf8_lossy(&bytes));
+    meta.check(&found).map_err(|e| match &e {
+        MetadataError::Differs { key, .. } | MetadataError::Missing { key, .. }
+            if GRID_KEYS.contains(&key.as_str()) =>
+        {
+            bad(&format_args!(
+                "{e}: it is not this figure's table (give the list flags that made it)"
+            ))
+        }
+        MetadataError::Differs { key, .. } => bad(&format_args!(
+            "{e}: drop --{key}, the figure is drawn with the CSV's model"
+        )),
+        _ => bad(&e),
     })?;
     let row_key =
         shakedown::io::csv::sweep_row_key_capped(spec.options().convergence.max_cycles as u64);
     let point =
         shakedown::io::batch::resume_point(&bytes, &header, keys, row_key).map_err(|e| bad(&e))?;
-    if point.kept < keys.len() || point.bytes < bytes.len() {
+    let cut = point.kept < keys.len() || point.bytes < bytes.len();
+    if cut && !partial {
         return Err(bad(&format_args!(
-            "it is partial: {} of {} runs (an interrupted figure): finish it with --resume and --out its folder",
+            "it is partial: {} of {} runs (an interrupted figure): finish it with --resume and --out its folder, or draw what there is with --partial",
             point.kept,
             keys.len()
         )));
     }
-    let text = std::str::from_utf8(&bytes).map_err(|_| bad(&"it is not UTF-8 text"))?;
-    parse_sweep_csv(text).map_err(|e| bad(&e))
+    if point.kept == 0 {
+        return Err(bad(&"it has no complete row: there is nothing to draw"));
+    }
+    let text =
+        std::str::from_utf8(&bytes[..point.bytes]).map_err(|_| bad(&"it is not UTF-8 text"))?;
+    let points = parse_sweep_csv(text).map_err(|e| bad(&e))?;
+    let partial = (point.kept < keys.len()).then_some(Partial {
+        kept: point.kept,
+        total: keys.len(),
+    });
+    Ok((points, partial))
 }
 
 fn read(flag: &str, path: &Path) -> Result<String> {
@@ -193,11 +323,11 @@ fn sweep_points(
     spec: &SweepSpec,
     csv_path: &Path,
     replace: bool,
-) -> Result<std::result::Result<Vec<SweepPoint>, ExitCode>> {
+) -> Result<std::result::Result<Drawn, ExitCode>> {
     let jobs = spec.jobs();
     let keys: Vec<String> = jobs.iter().map(|j| job_key(spec, j)).collect();
     if let Some(from) = &args.from {
-        return from_sweep_csv(from, spec, &keys).map(Ok);
+        return from_sweep_csv(from, spec, &keys, "sweep", args.partial).map(Ok);
     }
     // With --force over an existing figure the new table grows beside the
     // old one (`.NAME.csv.new`) and replaces it only when complete; an
@@ -248,14 +378,42 @@ fn sweep_points(
     let text = read("--out", csv_path)?;
     let points = parse_sweep_csv(&text)
         .map_err(|e| anyhow!("{}: cannot read it back: {e}", csv_path.display()))?;
-    Ok(Ok(points))
+    Ok(Ok((points, None)))
 }
 
-/// Run `shakedown figure`.
+/// The folder a figure is written to: `--out`, else that of `--from`.
+fn out_dir_of(args: &FigureArgs) -> Option<PathBuf> {
+    match (&args.out, &args.from) {
+        (Some(d), _) => Some(d.clone()),
+        (None, Some(f)) => Some(
+            f.parent()
+                .filter(|p| !p.as_os_str().is_empty())
+                .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+        ),
+        (None, None) => None,
+    }
+}
+
+/// Run `shakedown figure`. A refused or failed figure leaves no trace: an
+/// output folder it created is removed again when nothing was written
+/// into it.
 pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     if args.name == "design" {
         return super::design::figure(&args);
     }
+    if args.name == "profile" {
+        return super::run::profile_figure(&args);
+    }
+    let created = out_dir_of(&args).filter(|d| std::fs::symlink_metadata(d).is_err());
+    let result = figure_into(args);
+    if let (Err(_), Some(dir)) = (&result, created) {
+        // Only an empty folder: `remove_dir` leaves anything written.
+        let _ = std::fs::remove_dir(dir);
+    }
+    result
+}
+
+fn figure_into(args: FigureArgs) -> Result<ExitCode> {
     let preset = load_preset("figure", &args.name)?;
     let Some(fig) = preset.figure.clone() else {
         return Err(anyhow!(InputError(format!(
@@ -281,17 +439,10 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             }
         }
     }
-    let out_dir = match (&args.out, &args.from) {
-        (Some(d), _) => d.clone(),
-        (None, Some(f)) => f
-            .parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
-        (None, None) => {
-            return Err(anyhow!(InputError(
-                "figure: --out DIR is needed (or --from FILE.csv to redraw)".into()
-            )))
-        }
+    let Some(out_dir) = out_dir_of(&args) else {
+        return Err(anyhow!(InputError(
+            "figure: --out DIR is needed (or --from FILE.csv to redraw)".into()
+        )));
     };
     std::fs::create_dir_all(&out_dir).map_err(|e| {
         anyhow!(InputError(format!(
@@ -309,6 +460,22 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             args.time_origin
         )))
     })?;
+    // A redraw is drawn with the model of its data: the --from file's
+    // header gives every model flag the command line does not.
+    let model = match &args.from {
+        Some(f) => header_model(&args.model, &from_header(f)?),
+        None => args.model.clone(),
+    };
+    let used = model
+        .apply(preset.params.clone())
+        .map_err(|e| match &args.from {
+            Some(f) => anyhow!(InputError(format!(
+                "--from {}: its header: {e}",
+                f.display()
+            ))),
+            None => e,
+        })?;
+    let mut notes = model_note(&preset.params, &used);
     let file = |ext: &str| out_dir.join(format!("{stem}{ext}"));
     let preset_path = Path::new(&args.name);
     if preset_path.exists() {
@@ -362,10 +529,19 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     let replace = !existing.is_empty() && args.force && !args.resume && !redraw;
     // One writer per figure: the lock is DIR/NAME.lock.
     let _lock = lock_output("--out", &out_dir.join(&stem))?;
-    let title = fig
+    let base_title = fig
         .title
         .clone()
         .unwrap_or_else(|| preset.description.clone());
+    // The title (and so the caption) says where the model is not the
+    // preset's, and how much of the table a partial redraw holds.
+    let titled = |notes: &[String]| {
+        if notes.is_empty() {
+            base_title.clone()
+        } else {
+            format!("{base_title} ({})", notes.join(", "))
+        }
+    };
     let started = Instant::now();
     let mut written = Vec::new();
     if args.resume && !matches!(fig.kind, FigureKind::Dissipation | FigureKind::Regime) {
@@ -373,11 +549,12 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     }
     match fig.kind {
         FigureKind::Dissipation => {
-            let spec = sweep_spec(&args, &preset)?;
-            let points = match sweep_points(&args, &spec, &file(".csv"), replace)? {
+            let spec = sweep_spec(&args, &model, &preset)?;
+            let (points, partial) = match sweep_points(&args, &spec, &file(".csv"), replace)? {
                 Ok(p) => p,
                 Err(code) => return Ok(code),
             };
+            note_partial(&mut notes, partial.as_ref())?;
             if !redraw {
                 written.push(file(".csv"));
             }
@@ -397,7 +574,7 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                 axis: fig.axis,
                 ratchetting: fig.ratchetting,
                 lines: fig.lines,
-                title,
+                title: titled(&notes),
                 show_title: args.title,
                 style,
                 limit: limit.as_ref().map(|l| l.load_factor),
@@ -406,17 +583,18 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             outln!("{} runs", points.len());
         }
         FigureKind::Regime => {
-            let spec = sweep_spec(&args, &preset)?;
+            let spec = sweep_spec(&args, &model, &preset)?;
             if spec.initials().len() != 1 {
                 return Err(anyhow!(InputError(format!(
                     "figure {stem}: the regime map is for one transient, but {} are given: pick one with --initial",
                     spec.initials().len()
                 ))));
             }
-            let points = match sweep_points(&args, &spec, &file(".csv"), replace)? {
+            let (points, partial) = match sweep_points(&args, &spec, &file(".csv"), replace)? {
                 Ok(p) => p,
                 Err(code) => return Ok(code),
             };
+            note_partial(&mut notes, partial.as_ref())?;
             if !redraw {
                 written.push(file(".csv"));
             }
@@ -430,16 +608,16 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                     },
                 )
             }));
-            let curve_file = match &args.from {
-                Some(f) => f.with_file_name(format!("{stem}_limit.csv")),
-                None => file("_limit.csv"),
-            };
-            let stored = if redraw {
-                std::fs::read_to_string(&curve_file)
-                    .ok()
-                    .and_then(|t| parse_curve_csv(&t))
-            } else {
-                None
+            // A redraw takes the curve from beside its CSV when there is
+            // one (checked as the CSV is); else it is computed and written
+            // to --out, which never replaces a file without --force.
+            let stored = match &args.from {
+                Some(f) => stored_curve(
+                    &f.with_file_name(format!("{stem}_limit.csv")),
+                    &spec,
+                    map.phases(),
+                )?,
+                None => None,
             };
             let curve = match stored {
                 Some(c) => c,
@@ -452,11 +630,19 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
                         &spec.disc(),
                         CURVE_SAMPLES,
                     );
-                    let mut meta = sweep_metadata(&spec);
-                    meta.set("table", "limit-curve");
-                    meta.set("samples", CURVE_SAMPLES);
-                    write(&curve_file, &(meta.render() + &curve_csv(&pts)))?;
-                    written.push(curve_file.clone());
+                    let curve_file = file("_limit.csv");
+                    if redraw && !args.force && is_nonempty_file(&curve_file) {
+                        return Err(anyhow!(InputError(format!(
+                            "--out {}: {} exists: add --force to replace it",
+                            out_dir.display(),
+                            curve_file.display()
+                        ))));
+                    }
+                    write(
+                        &curve_file,
+                        &(curve_metadata(&spec).render() + &curve_csv(&pts)),
+                    )?;
+                    written.push(curve_file);
                     pts.iter()
                         .filter_map(|p| p.limit.as_ref().ok().map(|l| (p.phase, l.0)))
                         .collect()
@@ -466,7 +652,11 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             let plot = RegimePlot {
                 map: &map,
                 limit: &curve,
-                title: format!("{title}, transient {}", spec.initials()[0].name()),
+                title: format!(
+                    "{}, transient {}",
+                    titled(&notes),
+                    spec.initials()[0].name()
+                ),
                 show_title: args.title,
                 style,
                 paper_lines: true,
@@ -475,10 +665,9 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             outln!("{} runs", points.len());
         }
         FigureKind::Memory => {
-            let spec = sweep_spec(&args, &preset)?;
+            let spec = sweep_spec(&args, &model, &preset)?;
             let points = match &args.from {
-                Some(f) => parse_memory_csv(&read("--from", f)?)
-                    .map_err(|e| anyhow!(InputError(format!("--from {}: {e}", f.display()))))?,
+                Some(f) => from_memory_csv(f, &spec)?,
                 None => {
                     let jobs = spec.jobs();
                     let bar = progress(jobs.len());
@@ -505,7 +694,7 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             }
             let plot = MemoryPlot {
                 points: &points,
-                title,
+                title: titled(&notes),
                 show_title: args.title,
                 style,
                 limit: limit.as_ref().map(|l| l.load_factor),
@@ -529,7 +718,7 @@ pub fn figure(args: FigureArgs) -> Result<ExitCode> {
             describe(&map)?;
             let plot = SlipMapPlot {
                 map: &map,
-                title,
+                title: titled(&notes),
                 show_title: args.title,
                 style,
                 origin,
@@ -563,9 +752,18 @@ fn input(e: FigureError) -> anyhow::Error {
     }
 }
 
-fn sweep_spec(args: &FigureArgs, preset: &Preset) -> Result<SweepSpec> {
+/// Add "partial: k of n runs" to the title's notes of a partial redraw.
+fn note_partial(notes: &mut Vec<String>, partial: Option<&Partial>) -> Result<()> {
+    if let Some(p) = partial {
+        notes.push(format!("partial: {} of {} runs", p.kept, p.total));
+        outln!("partial: {} of {} runs drawn", p.kept, p.total);
+    }
+    Ok(())
+}
+
+fn sweep_spec(args: &FigureArgs, model: &ModelArgs, preset: &Preset) -> Result<SweepSpec> {
     spec(
-        &args.model,
+        model,
         &args.lists,
         preset.params.clone(),
         Some(&preset.sweep),
@@ -585,6 +783,16 @@ fn limit_of(fig: &FigureSpec, spec: &SweepSpec, points: &[SweepPoint]) -> Result
     if !fig.limit || fig.axis != Axis::Lambda || phases.len() != 1 {
         return Ok(None);
     }
+    if let Some(job) = spec.jobs().first().filter(|_| spec.polyline().is_some()) {
+        let cycle = spec.cycle(job)?;
+        let l = shakedown::analysis::limit::cycle_limit(
+            &spec.material(),
+            &cycle,
+            &spec.disc(),
+            DEFAULT_SAMPLES,
+        )?;
+        return Ok(Some(l));
+    }
     let l = shakedown_limit(
         &spec.material(),
         spec.center(),
@@ -597,6 +805,10 @@ fn limit_of(fig: &FigureSpec, spec: &SweepSpec, points: &[SweepPoint]) -> Result
 }
 
 fn write_limit(path: &Path, l: &Limit, spec: &SweepSpec) -> Result<()> {
+    if let Some(p) = spec.polyline() {
+        let csv = shakedown::io::csv::polyline_slip_csv(l, &spec.material(), spec.center(), p);
+        return write(path, &csv);
+    }
     let csv = slip_csv(
         l,
         &spec.material(),
@@ -630,7 +842,7 @@ fn single_case(args: &FigureArgs, preset: &Preset) -> Result<Case> {
         p.phase = v;
     }
     if let Some(t) = &args.lists.initials {
-        p.initial = t.clone();
+        p.initial = super::parse_initial(t).map_err(|e| super::bad_flag("initial", t, e))?;
     }
     let mut case = Case::from_params(&p).map_err(|e| anyhow!(InputError(e.to_string())))?;
     if let Some(text) = &args.lists.initial_path {
@@ -643,42 +855,68 @@ fn single_case(args: &FigureArgs, preset: &Preset) -> Result<Case> {
     Ok(case)
 }
 
-/// Read the memory figure's CSV ([`memory_csv`]) back.
-fn parse_memory_csv(text: &str) -> std::result::Result<Vec<MemoryPoint>, String> {
-    let lines = data_lines(text, MEMORY_HEADER).map_err(|e| e.to_string())?;
-    let mut out = Vec::new();
-    for (n, line) in lines {
-        let f: Vec<&str> = line.split(',').collect();
-        if f.len() != 8 {
-            return Err(format!("line {n}: expected 8 columns: {MEMORY_HEADER}"));
-        }
-        let num = |t: &str| {
-            t.parse::<f64>()
-                .map_err(|_| format!("line {n}: '{t}' is not a number"))
-        };
-        let opt = |t: &str| {
-            if t.is_empty() {
-                Ok(None)
-            } else {
-                num(t).map(Some)
-            }
-        };
-        let count = |t: &str| {
-            t.parse::<usize>()
-                .map_err(|_| format!("line {n}: '{t}' is not a count"))
-        };
-        out.push(MemoryPoint {
-            load_factor: num(f[0])?,
-            phase: num(f[1])?,
-            range: opt(f[2])?,
-            stuck_fraction: opt(f[3])?,
-            shakedown: count(f[4])?,
-            cyclic_slip: count(f[5])?,
-            ratchetting: count(f[6])?,
-            other: count(f[7])?,
-        });
+/// The header of the regime map's `lambda_2(phi)` curve (`NAME_limit.csv`).
+fn curve_metadata(spec: &SweepSpec) -> Metadata {
+    let mut meta = sweep_metadata(spec);
+    meta.set("table", "limit-curve");
+    meta.set("samples", CURVE_SAMPLES);
+    meta
+}
+
+/// The regime map's stored `lambda_2(phi)` curve beside a `--from` CSV,
+/// read through the checked reader: `None` when there is no such file;
+/// bad input when it is not a regular file, too large, not this map's
+/// curve (header) or its rows are not `lambda_2 > 0` at the map's phases.
+fn stored_curve(path: &Path, spec: &SweepSpec, phases: &[f64]) -> Result<Option<Vec<(f64, f64)>>> {
+    if std::fs::symlink_metadata(path).is_err() {
+        return Ok(None);
     }
-    Ok(out)
+    let shown = shakedown::io::read::escape_text(&path.to_string_lossy(), 200);
+    let bad = |e: &dyn std::fmt::Display| {
+        anyhow!(InputError(format!(
+            "--from: the curve beside it, {shown}: {e}"
+        )))
+    };
+    let meta = curve_metadata(spec);
+    let cap = meta.render().len() as u64 + 4096 + 128 * phases.len() as u64;
+    let text = shakedown::io::read::read_text_capped(path, cap).map_err(|e| bad(&e))?;
+    meta.check(&Metadata::parse(&text)).map_err(|e| bad(&e))?;
+    let curve = parse_curve_csv(&text).ok_or_else(|| bad(&"it is not a lambda_2(phi) table"))?;
+    let mut at = 0;
+    for &(phi, l2) in &curve {
+        // Phases in the map's order; a failed phase has no row.
+        let Some(k) = phases[at..].iter().position(|&p| p == phi) else {
+            return Err(bad(&format_args!(
+                "phi = {phi} is not a phase of the map (or is out of order, or repeated)"
+            )));
+        };
+        at += k + 1;
+        if !(l2.is_finite() && l2 > 0.0) {
+            return Err(bad(&format_args!(
+                "lambda_2 = {l2} at phi = {phi} is not positive"
+            )));
+        }
+    }
+    Ok(Some(curve))
+}
+
+/// The memory figure's points from its `--from` CSV, through the checked
+/// reader: bounded, regular files only, the header this figure's with the
+/// model of `spec` (the file's own), every row a valid point of the grid.
+fn from_memory_csv(from: &Path, spec: &SweepSpec) -> Result<Vec<MemoryPoint>> {
+    let shown = shakedown::io::read::escape_text(&from.to_string_lossy(), 200);
+    let bad = |e: &dyn std::fmt::Display| anyhow!(InputError(format!("--from {shown}: {e}")));
+    let mut meta = sweep_metadata(spec);
+    meta.set("table", "memory");
+    let mut grid: Vec<(f64, f64)> = Vec::new();
+    for j in spec.jobs() {
+        if !grid.contains(&(j.load_factor, j.phase)) {
+            grid.push((j.load_factor, j.phase));
+        }
+    }
+    let cap = meta.render().len() as u64 + 4096 + 256 * grid.len() as u64;
+    let bytes = shakedown::io::read::read_capped(from, cap).map_err(|e| bad(&e))?;
+    read_memory_csv(&bytes, &meta, &grid, spec.initials().len()).map_err(|e| bad(&e))
 }
 
 /// The load table beside a slip map's CSV: `NAME_load.csv` for `NAME.csv`.
@@ -694,14 +932,34 @@ fn load_file_of(map: &Path) -> PathBuf {
 /// run. A file that is not such a table, or is cut short, is bad input
 /// named in one line.
 fn read_slip_map_files(from: &Path) -> Result<SlipMap> {
+    use shakedown::io::read::{escape_text, read_text_capped};
     let load = load_file_of(from);
-    let map_text = read("--from", from)?;
-    let load_text = std::fs::read_to_string(&load).map_err(|e| {
+    // Sized by the header (nodes x rows, at most 2^26 cells as the reader
+    // checks), then read through the checked reader: regular files only.
+    let bad = |file: &Path, e: &dyn std::fmt::Display| {
         anyhow!(InputError(format!(
-            "--from {}: cannot read its load table {}: {e}",
-            from.display(),
-            load.display()
+            "--from {}: {e}",
+            escape_text(&file.to_string_lossy(), 200)
         )))
+    };
+    let head_bytes =
+        shakedown::io::read::read_head(from, HEADER_BYTES).map_err(|e| bad(from, &e))?;
+    let head = Metadata::parse(&String::from_utf8_lossy(&head_bytes));
+    let count = |k: &str| head.get(k).and_then(|v| v.parse::<u64>().ok()).unwrap_or(0);
+    let cells = count("nodes").saturating_mul(count("rows")).min(1 << 26);
+    let map_cap = HEADER_BYTES + 64 * cells;
+    let load_cap = HEADER_BYTES + 160 * (count("rows").min(1 << 26) + 1);
+    // Without a slip map's header, its first bytes are enough to say so.
+    let map_text = if cells == 0 {
+        String::from_utf8_lossy(&head_bytes).into_owned()
+    } else {
+        read_text_capped(from, map_cap).map_err(|e| bad(from, &e))?
+    };
+    let load_text = read_text_capped(&load, load_cap).map_err(|e| {
+        bad(
+            from,
+            &format_args!("its load table {}: {e}", load.display()),
+        )
     })?;
     read_slip_map(&map_text, &load_text).map_err(|e| {
         let file = match e.file {

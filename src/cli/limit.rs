@@ -65,6 +65,11 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
             "--run-out: limit does not use it (it changes how a run's shakedown is proven, and limit runs nothing): drop it".into()
         )));
     }
+    if let (Some(_), Some(phi)) = (&args.case.model.cycle, &args.case.phi) {
+        return Err(anyhow!(InputError(format!(
+            "--phi {phi}: a polyline cycle (--cycle) has no phase: drop --phi"
+        ))));
+    }
     if let Some(phis) = args
         .case
         .phi
@@ -76,7 +81,10 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
     let base = args.case.base(CaseParams::default())?;
     let mut params = args.case.apply(base)?;
     // lambda and the initial path play no part in the limit.
-    params.initial = "OA".into();
+    params.initial = shakedown::model::Initial::Direct;
+    if let Some(polyline) = params.cycle.clone() {
+        return polyline_limit(&args, params, &polyline);
+    }
     let case = Case::from_params(&params).map_err(|e| case_error(e, |f| args.case.given(f)))?;
     let samples = match &args.samples {
         Some(t) => t.trim().parse::<usize>().map_err(|_| {
@@ -145,6 +153,93 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
             samples,
         ))?;
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `limit` on a polyline cycle: the programme at its vertices, which is
+/// exact (a slip admissible at the vertices is admissible on every chord).
+fn polyline_limit(
+    args: &LimitArgs,
+    mut params: CaseParams,
+    polyline: &shakedown::model::Polyline,
+) -> Result<ExitCode> {
+    if let Some(t) = &args.samples {
+        return Err(anyhow!(InputError(format!(
+            "--samples {t}: limit does not use it with --cycle (the cycle's vertices are its load points, and exact): drop it"
+        ))));
+    }
+    let vertices = polyline.vertices().len();
+    check_samples(vertices, params.nodes)?;
+    // The increments play no part in lambda_2: any count the cycle takes.
+    params.steps = vertices * 16usize.div_ceil(vertices);
+    let case = Case::from_params(&params).map_err(|e| case_error(e, |f| args.case.given(f)))?;
+    warn_if_slow_limit(params.nodes, vertices);
+    let _lock = prepare_out(args)?;
+    let (material, center) = (case.material, case.cycle.center());
+    let limit = shakedown::analysis::limit::cycle_limit(&material, &case.cycle, &case.disc, 0)
+        .map_err(classify)?;
+    if let Some(out) = &args.out {
+        let csv = shakedown::io::csv::polyline_slip_csv(&limit, &material, center, polyline);
+        write_file("--out", out, csv.as_bytes())?;
+    }
+    if args.json {
+        outln!(
+            "{}",
+            json!({
+                "lambda_2": limit.load_factor,
+                "lower_bound": limit.lower_bound,
+                "line": false,
+                "samples": vertices,
+                "convergence": [],
+                "max_violation": limit.max_violation,
+                "iterations": limit.iterations,
+                "slip_csv": args.out.as_ref().map(|p| p.display().to_string()),
+                "parameters": {
+                    "cycle": polyline.name(),
+                    "center": [center.x(), center.y()],
+                    "friction": material.friction(),
+                    "nu": material.poisson(),
+                    "plane": material.plane(),
+                    "nodes": params.nodes,
+                },
+            })
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    use std::fmt::Write;
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "cycle     {} ({vertices} vertices)  A = ({:.4}, {:.4})  f = {}  nu = {}  plane {}  N = {}",
+        polyline.name(),
+        center.x(),
+        center.y(),
+        material.friction(),
+        material.poisson(),
+        material.plane(),
+        params.nodes
+    );
+    let _ = writeln!(o, "lambda_2  {:.6}", limit.load_factor);
+    let _ = writeln!(
+        o,
+        "          the friction law is imposed at the {vertices} vertices; it is linear in the load, so this is exact on the chords between them for N = {}",
+        params.nodes
+    );
+    let _ = writeln!(
+        o,
+        "check     max(|q| - f p) of the optimal slip at lambda_2: {:.2e}  ({} interior-point iterations)",
+        limit.max_violation, limit.iterations
+    );
+    if let Some(out) = &args.out {
+        let _ = writeln!(
+            o,
+            "slip      optimal g(theta) written to {} ({} nodes); start from it with --initial-slip {}",
+            out.display(),
+            limit.slip.len(),
+            out.display()
+        );
+    }
+    print_stdout(&o)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -236,7 +331,7 @@ fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
     flags.phi = None;
     let mut params = flags.apply(base)?;
     params.phase = phases[0];
-    params.initial = "OA".into();
+    params.initial = shakedown::model::Initial::Direct;
     let case = Case::from_params(&params).map_err(|e| anyhow!(InputError(e.to_string())))?;
     let samples = match &args.samples {
         Some(t) => t

@@ -38,7 +38,7 @@ use clap::{Args, Parser, Subcommand};
 use shakedown::analysis::case::{Case, CaseError, CaseParams};
 use shakedown::io::parse::{parse_angle, parse_number, parse_point};
 use shakedown::io::preset::Preset;
-use shakedown::model::{ParamError, Plane};
+use shakedown::model::Plane;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -108,6 +108,20 @@ pub struct ModelArgs {
     /// of stopping once a safe state proves it (docs/model.md section 6.4).
     #[arg(long)]
     pub run_out: bool,
+    /// Any closed load cycle instead of the ellipse: a CSV with header u,v, one vertex (offset from the centre A) a row in time order; the load is A + lambda (u, v), equal time per chord, so --steps must be a multiple of the vertex count (docs/model.md section 5.4). Not with --phi or --psi.
+    #[arg(long, value_name = "FILE", conflicts_with = "psi")]
+    pub cycle: Option<String>,
+}
+
+/// The polyline cycle of `--cycle FILE`; a bad file is bad input, on one
+/// line naming the flag.
+pub fn cycle_file(path: &str) -> Result<shakedown::model::Polyline> {
+    shakedown::io::cycle::read_cycle_file(std::path::Path::new(path)).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--cycle {}: {e}",
+            shakedown::io::read::escape_text(path, 200)
+        )))
+    })
 }
 
 /// Flags that define one case. Unset flags keep the preset's (or the
@@ -157,27 +171,32 @@ pub fn custom_path(
         .map_err(|e| anyhow!(InputError(format!("--initial-path {text}: {e}"))))
 }
 
+/// An initial path as the command line names it: `OA`, `a,b` or
+/// `optimal` (resolved when the case is built).
+pub fn parse_initial(
+    text: &str,
+) -> std::result::Result<shakedown::model::Initial, shakedown::model::PathError> {
+    if text.trim().eq_ignore_ascii_case("optimal") {
+        Ok(shakedown::model::Initial::Optimal)
+    } else {
+        shakedown::model::Initial::parse(text)
+    }
+}
+
 /// Load a preset named by a flag; a bad one is an input error.
 pub fn load_preset(flag: &str, name: &str) -> Result<Preset> {
     shakedown::io::preset::load(name)
         .map_err(|e| anyhow!(InputError(format!("{flag} {name}: {e}"))))
 }
 
-/// What each flag accepts, as error messages say it. A test keeps these
-/// equal to the library's checks.
+/// What each flag accepts, as error messages say it: the library's own
+/// ranges (`shakedown::model::ranges`), written once there.
 pub fn accepted(flag: &str) -> Option<&'static str> {
     Some(match flag {
-        "lambda" => "0 <= lambda <= 1000",
-        "phi" => "|phi| <= 1000 rad",
-        "psi" => "|psi| <= 1e6",
         "center" => "x0,y0 with |x0|, |y0| <= 1000 (pi allowed: pi,0.75pi)",
-        "friction" => "0 < f <= 10",
-        "nu" => "0 <= nu < 0.5",
         "plane" => "strain or stress",
-        "nodes" => "an even number from 16 to 4096",
-        "steps" => "16 to 100000 increments per cycle",
-        "max-cycles" => "1 to 100000",
-        _ => return None,
+        "cycle" => "a CSV file with header u,v and at least 3 finite vertices",
+        f => shakedown::model::ranges::expected(f)?,
     })
 }
 
@@ -197,22 +216,18 @@ pub fn bad_flag(flag: &str, value: &str, why: impl std::fmt::Display) -> anyhow:
 /// The flag a validation error is about.
 pub fn flag_of(e: &CaseError) -> Option<&'static str> {
     match e {
-        CaseError::Param(p) => {
-            let (ParamError::NotFinite { name, .. }
-            | ParamError::OutOfRange { name, .. }
-            | ParamError::BadCount { name, .. }) = p;
-            Some(match *name {
-                "x0" | "y0" | "center" => "center",
-                "lambda" => "lambda",
-                "phi" => "phi",
-                "psi" => "psi",
-                "friction" => "friction",
-                "nu" => "nu",
-                "nodes" => "nodes",
-                "steps" => "steps",
-                _ => return None,
-            })
-        }
+        CaseError::Param(p) => Some(match p.name() {
+            "x0" | "y0" | "center" => "center",
+            "lambda" => "lambda",
+            "phi" => "phi",
+            "psi" => "psi",
+            "friction" => "friction",
+            "nu" => "nu",
+            "nodes" => "nodes",
+            "steps" => "steps",
+            "cycle" => "cycle",
+            _ => return None,
+        }),
         CaseError::Path(_) | CaseError::Optimal(_) => Some("initial"),
         CaseError::MaxCycles(_) => Some("max-cycles"),
     }
@@ -274,6 +289,12 @@ impl ModelArgs {
         if self.run_out {
             p.safe_state = false;
         }
+        if let Some(path) = &self.cycle {
+            p.cycle = Some(cycle_file(path)?);
+        }
+        if let Some(psi) = &self.psi {
+            refuse_phase_with_polyline(&p, "psi", psi)?;
+        }
         Ok(p)
     }
 }
@@ -290,6 +311,7 @@ impl ModelArgs {
             "nodes" => self.nodes.clone(),
             "steps" => self.steps.clone(),
             "max-cycles" => self.max_cycles.clone(),
+            "cycle" => self.cycle.clone(),
             _ => None,
         }
     }
@@ -316,10 +338,11 @@ impl CaseArgs {
             p.load_factor = v;
         }
         if let Some(v) = flag("phi", &self.phi, parse_angle)? {
+            refuse_phase_with_polyline(&p, "phi", self.phi.as_deref().unwrap_or_default())?;
             p.phase = v;
         }
         if let Some(v) = &self.initial {
-            p.initial = v.clone();
+            p.initial = parse_initial(v).map_err(|e| bad_flag("initial", v, e))?;
         }
         Ok(p)
     }
@@ -353,33 +376,64 @@ impl CaseArgs {
     }
 }
 
+/// `--phi` (or `--psi`) with a polyline cycle: refused, since a polyline
+/// has neither (docs/model.md section 5.4).
+pub fn refuse_phase_with_polyline(p: &CaseParams, flag: &str, value: &str) -> Result<()> {
+    if p.cycle.is_some() {
+        return Err(anyhow!(InputError(format!(
+            "--{flag} {value}: a polyline cycle (--cycle or the preset's cycle) has no {flag}: drop --{flag}, or give the phase in the cycle's vertices"
+        ))));
+    }
+    Ok(())
+}
+
 /// Largest `--nodes` and `--steps` of the interactive range: a run takes
 /// well under a second up to here.
 pub const INTERACTIVE_NODES: usize = 512;
 /// See [`INTERACTIVE_NODES`].
 pub const INTERACTIVE_STEPS: usize = 2000;
 
-/// A rough time for one run to its steady state: 10 ms at the defaults
-/// (128 nodes, 400 increments per cycle). The events of a cycle cost most
-/// of it, and they do not depend on the increments: their part grows as
-/// about `N^2` with the node count (more events a cycle, each an update of
-/// the reduced inverse, `O(N)` while the slip zone is a few arcs; measured 0.11 s at 512 nodes, 0.49 s at
-/// 1024 and 2.2 s at 2048 in a slow hour, `lambda = 5.5`). The increments
-/// add about 40 ns per node and increment per cycle (0.06 s at 1024 nodes
-/// and 1600 increments).
-pub fn expected_run_seconds(nodes: usize, steps: usize) -> f64 {
+/// CPU seconds of one run to its verdict at 400 increments per cycle, by
+/// node count, measured for a fast case (`--lambda 5.5 --phi 0`, cyclic
+/// slip) and a slow one (`--lambda 6 --phi pi/2`, out of phase,
+/// ratchetting): `(nodes, fast, slow)`. Between the two lie the cases
+/// tried; the cost is the events of each cycle (about `N^2` while the
+/// slip zones are a few arcs) times the cycles to a verdict, and out of
+/// phase both grow faster with `N`.
+const RUN_SECONDS: [(f64, f64, f64); 4] = [
+    (512.0, 0.12, 0.08),
+    (1024.0, 0.49, 0.72),
+    (2048.0, 2.22, 22.7),
+    (4096.0, 12.35, 182.6),
+];
+
+/// The expected CPU time of one run, `(fast, slow)` in seconds: the
+/// measured times of [`RUN_SECONDS`] interpolated in `log N` (as `N^2.1`
+/// below 512 nodes), plus the increments beyond 400 a cycle (about
+/// `2.5e-10 N^2` s each: 0.36 s more at 1024 nodes and 1600 increments).
+pub fn expected_run_seconds(nodes: usize, steps: usize) -> (f64, f64) {
     let n = nodes as f64;
-    0.0062 * (n / 128.0).powf(2.1) + 4e-8 * n * steps as f64
+    let at = |pick: fn(&(f64, f64, f64)) -> f64| {
+        let first = &RUN_SECONDS[0];
+        if n <= first.0 {
+            return pick(first) * (n / first.0).powf(2.1);
+        }
+        for w in RUN_SECONDS.windows(2) {
+            if n <= w[1].0 {
+                let f = (n / w[0].0).ln() / (w[1].0 / w[0].0).ln();
+                return pick(&w[0]) * (pick(&w[1]) / pick(&w[0])).powf(f);
+            }
+        }
+        let last = &RUN_SECONDS[RUN_SECONDS.len() - 1];
+        pick(last) * (n / last.0).powi(3)
+    };
+    let extra = 2.5e-10 * n * n * steps.saturating_sub(400) as f64;
+    (at(|r| r.1) + extra, at(|r| r.2) + extra)
 }
 
-/// Warn on stderr (one line) when `--nodes` or `--steps` is above the
-/// interactive range, with the expected time per run.
-pub fn warn_if_slow(nodes: usize, steps: usize) {
-    if nodes <= INTERACTIVE_NODES && steps <= INTERACTIVE_STEPS {
-        return;
-    }
-    let t = expected_run_seconds(nodes, steps);
-    let time = if t < 0.5 {
+/// A time for a warning: `about 3 s`, `about 2 min`.
+fn readable_time(t: f64) -> String {
+    if t < 0.5 {
         "under a second".to_string()
     } else if t < 10.0 {
         format!("about {t:.1} s")
@@ -389,9 +443,29 @@ pub fn warn_if_slow(nodes: usize, steps: usize) {
         format!("about {:.0} min", t / 60.0)
     } else {
         format!("about {:.1} h", t / 3600.0)
+    }
+}
+
+/// Warn on stderr (one line) when `--nodes` or `--steps` is above the
+/// interactive range, with the expected time per run: a range, from the
+/// fast cases to the slow ones ([`expected_run_seconds`]).
+pub fn warn_if_slow(nodes: usize, steps: usize) {
+    if nodes <= INTERACTIVE_NODES && steps <= INTERACTIVE_STEPS {
+        return;
+    }
+    let (fast, slow) = expected_run_seconds(nodes, steps);
+    let (lo, hi) = (fast.min(slow), fast.max(slow));
+    let time = if hi < 2.0 * lo || hi < 0.5 {
+        readable_time(hi)
+    } else {
+        format!(
+            "{} to {} (out of phase, ratchetting runs take longest)",
+            readable_time(lo),
+            readable_time(hi).trim_start_matches("about ")
+        )
     };
     errln!(
-        "warning: --nodes {nodes} --steps {steps} is above the interactive range (nodes <= {INTERACTIVE_NODES}, steps <= {INTERACTIVE_STEPS}): expect {time} per run"
+        "warning: --nodes {nodes} --steps {steps} is above the interactive range (nodes <= {INTERACTIVE_NODES}, steps <= {INTERACTIVE_STEPS}): expect {time} of CPU per run"
     );
 }
 
@@ -451,6 +525,10 @@ pub struct TuiArgs {
     #[arg(long, value_name = "MIB", default_value_t = shakedown::tui::app::DEFAULT_HISTORY_MB as u64,
           value_parser = clap::value_parser!(u64).range(8..=65536))]
     pub history_mb: u64,
+    /// Open on the guided tour: the paper's story in eight live stops
+    /// (n next, N back, Esc takes over).
+    #[arg(long)]
+    pub tour: bool,
 }
 
 /// Parse the command line, run it, and map errors to exit codes: 2 for bad
@@ -661,7 +739,11 @@ fn tui(args: TuiArgs) -> Result<ExitCode> {
     let mut config = shakedown::tui::app::Config::from_env();
     config.ascii |= args.ascii;
     config.history_bytes = usize::try_from(args.history_mb << 20).unwrap_or(usize::MAX);
-    let code = shakedown::tui::run_with(case, preset, config)?;
+    let code = if args.tour {
+        shakedown::tui::run_tour(case, preset, config)?
+    } else {
+        shakedown::tui::run_with(case, preset, config)?
+    };
     Ok(ExitCode::from(code))
 }
 

@@ -43,7 +43,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     let (mut params, mut case) = args.case.case(base)?;
     if let Some(path) = &args.initial_slip {
         case.initial = super::initial_slip(path, params.nodes)?;
-        params.initial = case.initial.name();
+        params.initial = case.initial.clone();
     }
     if let Some(out) = &args.profile {
         if !args.force && shakedown::io::output::is_nonempty_file(out) {
@@ -65,8 +65,12 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
                     summary.state()
                 ))));
             };
-            let csv =
-                shakedown::io::profile::profile_csv(&case, &params.initial, &summary, &profile);
+            let csv = shakedown::io::profile::profile_csv(
+                &case,
+                &case.initial.name(),
+                &summary,
+                &profile,
+            );
             super::batch::write_file("--profile", out, csv.as_bytes())?;
             summary
         }
@@ -96,6 +100,9 @@ pub fn to_json(params: &CaseParams, s: &Outcome, history: &[f64]) -> serde_json:
         "terminal_time": s.terminal_time(),
         "terminal_theta": s.terminal_theta(),
         "trend": s.trend(),
+        "level": s.level,
+        "steady_rotation": s.steady_rotation,
+        "rotation_drift": s.rotation_drift(),
         "certificate": s.certificate(),
         "version": env!("CARGO_PKG_VERSION"),
         "dissipation_history": history,
@@ -107,7 +114,7 @@ pub fn to_json(params: &CaseParams, s: &Outcome, history: &[f64]) -> serde_json:
             "friction": params.friction,
             "nu": params.poisson,
             "plane": params.plane,
-            "initial": params.initial,
+            "initial": params.initial.name(),
             "nodes": params.nodes,
             "steps": params.steps,
             "max_cycles": params.max_cycles,
@@ -143,7 +150,7 @@ fn readable(p: &CaseParams, s: &Outcome, history: &[f64]) -> String {
         Verdict::Shakedown(ShakedownProof::Converged)
         | Verdict::CyclicSlip
         | Verdict::Ratchetting { .. } => format!(
-            "W changed by less than 0.01 % over {} successive cycles",
+            "W changed by less than 0.01 % over {} successive cycles, its level known to 0.04 %",
             shakedown::stepping::steady::SETTLE_CYCLES
         ),
         Verdict::GrossSlip(_) | Verdict::Separation(_) => {
@@ -178,11 +185,25 @@ fn readable(p: &CaseParams, s: &Outcome, history: &[f64]) -> String {
             );
         }
     }
+    if let Some(l) = s.level {
+        let _ = writeln!(
+            o,
+            "level     W -> {:.6e} +- {:.1e}  (the steady level the cycles approach)",
+            l.value, l.uncertainty
+        );
+    }
     let _ = writeln!(
         o,
         "rotation  {:.6e} per cycle (mean g)",
         s.rotation_per_cycle
     );
+    if let (Some(r), Some(drift)) = (s.steady_rotation, s.rotation_drift()) {
+        let _ = writeln!(
+            o,
+            "          steady {:.6e} +- {:.1e}; the last cycle drifts {:.3e} apart from it",
+            r.value, r.uncertainty, drift
+        );
+    }
     let _ = writeln!(o, "cycles    {}", s.cycles);
     if let Some(t) = s.trend() {
         let _ = writeln!(
@@ -206,4 +227,157 @@ fn readable(p: &CaseParams, s: &Outcome, history: &[f64]) -> String {
         let _ = writeln!(o, "W history (last {}): {}", shown.len(), shown.join(" "));
     }
     o
+}
+
+/// `figure profile`: the fretting profile against theta (model.md section
+/// 4.1). With `--from FILE.csv` (a `run --profile` output) it redraws that
+/// profile; otherwise it runs the one case of the model flags and single
+/// `--lambda`, `--phi` and `--initial` values, and writes `profile.csv`
+/// beside the plot.
+pub fn profile_figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
+    use anyhow::anyhow;
+    use shakedown::figure::{FigureStyle, ProfilePlot};
+    use shakedown::io::output::is_nonempty_file;
+    use std::path::{Path, PathBuf};
+
+    let bad = |m: String| anyhow!(super::InputError(m));
+    let style: FigureStyle = args
+        .style
+        .parse()
+        .map_err(|e| bad(format!("--style {}: {e}", args.style)))?;
+    let (out_dir, stem) = match (&args.out, &args.from) {
+        (Some(d), from) => (
+            d.clone(),
+            from.as_ref()
+                .and_then(|f| f.file_stem())
+                .map_or("profile".into(), |s| s.to_string_lossy().into_owned()),
+        ),
+        (None, Some(f)) => (
+            f.parent()
+                .filter(|p| !p.as_os_str().is_empty())
+                .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+            f.file_stem()
+                .map_or("profile".into(), |s| s.to_string_lossy().into_owned()),
+        ),
+        (None, None) => {
+            return Err(bad(
+                "figure profile: --out DIR is needed (or --from FILE.csv to redraw a run --profile output)".into(),
+            ))
+        }
+    };
+    shakedown::io::output::check_file_stem(&stem)
+        .map_err(|why| bad(format!("--from: its name cannot be used: {why}")))?;
+    std::fs::create_dir_all(&out_dir).map_err(|e| {
+        bad(format!(
+            "--out {}: cannot create the directory: {e}",
+            out_dir.display()
+        ))
+    })?;
+    let file = |ext: &str| out_dir.join(format!("{stem}{ext}"));
+    let outputs: Vec<PathBuf> = if args.from.is_some() {
+        vec![file(".svg"), file(".png"), file(".caption.txt")]
+    } else {
+        vec![
+            file(".csv"),
+            file(".svg"),
+            file(".png"),
+            file(".caption.txt"),
+        ]
+    };
+    if !args.force {
+        if let Some(old) = outputs.iter().find(|p| is_nonempty_file(p)) {
+            return Err(bad(format!(
+                "--out {}: {} exists: add --force to replace it",
+                out_dir.display(),
+                old.display()
+            )));
+        }
+    }
+    let (profile, friction, title) = match &args.from {
+        Some(from) => {
+            let shown = shakedown::io::read::escape_text(&from.display().to_string(), 200);
+            let text = shakedown::io::read::read_text_capped(from, 64 << 20)
+                .map_err(|e| bad(format!("--from {shown}: {e}")))?;
+            let (meta, profile) = shakedown::io::profile::read_profile_csv(&text)
+                .map_err(|e| bad(format!("--from {shown}: {e}")))?;
+            let friction = meta
+                .get("friction")
+                .and_then(|f| f.trim().parse::<f64>().ok())
+                .ok_or_else(|| bad(format!("--from {shown}: its header has no friction")))?;
+            let title = profile_title(|k| meta.get(k).map(str::to_string));
+            (profile, friction, title)
+        }
+        None => {
+            let single = |flag: &str, v: &Option<String>| -> Result<Option<String>> {
+                match v {
+                    Some(t)
+                        if t.contains(':')
+                            || t.matches(',').count() > usize::from(flag == "initial") =>
+                    {
+                        Err(bad(format!(
+                            "--{flag} {t}: figure profile draws one case: give one value"
+                        )))
+                    }
+                    other => Ok(other.clone()),
+                }
+            };
+            let case_args = super::CaseArgs {
+                preset: None,
+                lambda: single("lambda", &args.lists.lambdas)?,
+                phi: single("phi", &args.lists.phis)?,
+                initial: single("initial", &args.lists.initials)?,
+                initial_path: args.lists.initial_path.clone(),
+                model: args.model.clone(),
+            };
+            let (_, case) = case_args.case(CaseParams::default())?;
+            let mut stepper = case.stepper();
+            let (summary, profile) = shakedown::analysis::profile::profile_run(&mut stepper)?;
+            let Some(profile) = profile else {
+                return Err(bad(format!(
+                    "figure profile: the run ended ({}) before it completed a cycle: there is no cycle to profile",
+                    summary.state()
+                )));
+            };
+            let csv = shakedown::io::profile::profile_csv(
+                &case,
+                &case.initial.name(),
+                &summary,
+                &profile,
+            );
+            super::batch::write_file("--out", &file(".csv"), csv.as_bytes())?;
+            let meta = shakedown::io::csv::Metadata::parse(&csv);
+            let title = profile_title(|k| meta.get(k).map(str::to_string));
+            (profile, case.material.friction(), title)
+        }
+    };
+    let plot = ProfilePlot {
+        profile: &profile,
+        friction,
+        title,
+        show_title: args.title,
+        style,
+    };
+    super::figure::write_plot(&plot, &file(".svg"), &file(".png"))?;
+    outln!(
+        "wrote {} and {} (the fretting profile of cycle {})",
+        file(".svg").display(),
+        file(".png").display(),
+        profile.cycle
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The caption's start: the case, from the profile's header.
+fn profile_title(get: impl Fn(&str) -> Option<String>) -> String {
+    let value = |k: &str| get(k).unwrap_or_else(|| "?".into());
+    let cycle = match get("load-cycle") {
+        Some(c) => format!("the load cycle {c}"),
+        None => format!("φ = {}", value("phi")),
+    };
+    format!(
+        "Fretting profile: λ = {}, {cycle}, initial path {}, state {}",
+        value("lambda"),
+        value("initial"),
+        value("state")
+    )
 }

@@ -112,7 +112,10 @@ pub fn spec(
         (None, None) => vec![params.load_factor],
     };
     let phis = match (&lists.phis, preset) {
-        (Some(t), _) => parse_values(t, parse_angle).map_err(|e| bad_flag("phi", t, e))?,
+        (Some(t), _) => {
+            super::refuse_phase_with_polyline(&params, "phi", t)?;
+            parse_values(t, parse_angle).map_err(|e| bad_flag("phi", t, e))?
+        }
         (None, Some(p)) => p.phases.clone(),
         (None, None) => vec![params.phase],
     };
@@ -123,8 +126,7 @@ pub fn spec(
         }
         (Some(t), _) => Initial::parse_list(t).map_err(|e| bad_flag("initial", t, e))?,
         (None, Some(p)) => p.initials.clone(),
-        (None, None) => Initial::parse_list(&params.initial)
-            .map_err(|e| bad_flag("initial", &params.initial, e))?,
+        (None, None) => vec![params.initial.clone()],
     };
     if let Some(text) = &lists.initial_path {
         let material =
@@ -148,7 +150,7 @@ pub fn spec(
     params.load_factor = lambdas[0];
     params.phase = phis[0];
     // The initial paths are already resolved; validate the rest.
-    params.initial = "OA".into();
+    params.initial = Initial::Direct;
     let case = Case::from_params(&params).map_err(|e| case_error(e, given))?;
     // Only a valid case is worth a warning about its cost.
     super::warn_if_slow(params.nodes, params.steps);
@@ -200,9 +202,7 @@ pub fn job_key(spec: &SweepSpec, job: &Job) -> String {
     )
 }
 
-fn key(load_factor: f64, phase: f64, initial: &str) -> String {
-    format!("{load_factor},{phase},\"{initial}\"")
-}
+use shakedown::io::sweep_csv::row_key as key;
 
 #[cfg(test)]
 /// The key of a CSV line (see [`job_key`]) after validating the whole row
@@ -253,8 +253,8 @@ pub fn sweep(mut args: SweepArgs) -> Result<ExitCode> {
                 bar.suspend(|| {
                     errln!(
                         "warning: run lambda = {}, phi = {}, initial {} failed: {e}",
-                        row.job.load_factor,
-                        row.job.phase,
+                        shakedown::io::metadata::fmt_number(row.job.load_factor),
+                        shakedown::io::metadata::fmt_number(row.job.phase),
                         row.initial
                     )
                 });
@@ -309,7 +309,7 @@ mod tests {
                 })),
             };
             assert_eq!(row.state(), RowState::Failed);
-            let line = row.csv_line();
+            let line = shakedown::io::sweep_csv::row_line(&row);
             assert!(line.contains(",failed,"), "{line}");
             assert_eq!(row_key(&line), Ok(job_key(&spec, &job).as_str()), "{line}");
         }

@@ -146,28 +146,26 @@ impl DesignPlot<'_> {
             .margin_right(pen.px(1.6 * f))
             .x_label_area_size(pen.px(2.9 * f))
             .y_label_area_size(pen.px(4.0 * f))
-            .build_cartesian_2d(-xr..xr, -1.1 * two_pi..1.1 * two_pi)
+            // Coordinates in units of pi, so that the ticks fall on whole
+            // multiples of pi and the gross-slip lines sit on a tick.
+            .build_cartesian_2d(-xr / PI..xr / PI, -2.2..2.2)
             .map_err(s)?;
         chart
             .configure_mesh()
             .disable_mesh()
             .x_desc("x (force)")
             .y_desc("y (torque)")
-            .x_label_formatter(&|v| pi_label(&(v / PI)))
-            .y_label_formatter(&|v| pi_label(&(v / PI)))
+            .x_labels(2 * (xr / PI).floor() as usize + 1)
+            .y_labels(5)
+            .x_label_formatter(&pi_label)
+            .y_label_formatter(&pi_label)
             .axis_desc_style(pen.text())
             .label_style(pen.tick())
             .axis_style(pen.line(BLACK, 1.0))
             .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
-        let diamond = vec![
-            (two_pi, 0.0),
-            (0.0, two_pi),
-            (-two_pi, 0.0),
-            (0.0, -two_pi),
-            (two_pi, 0.0),
-        ];
+        let diamond = vec![(2.0, 0.0), (0.0, 2.0), (-2.0, 0.0), (0.0, -2.0), (2.0, 0.0)];
         chart
             .draw_series(std::iter::once(Polygon::new(
                 diamond.clone(),
@@ -175,16 +173,16 @@ impl DesignPlot<'_> {
             )))
             .map_err(s)?;
         let gross = pen.line(GREY, 1.0);
-        for y in [two_pi, -two_pi] {
-            Pattern::Dashed.draw(&mut chart, vec![(-xr, y), (xr, y)], gross)?;
+        for y in [2.0, -2.0] {
+            Pattern::Dashed.draw(&mut chart, vec![(-xr / PI, y), (xr / PI, y)], gross)?;
         }
-        let a = (self.center.x(), self.center.y());
+        let a = (self.center.x() / PI, self.center.y() / PI);
         let turning: Vec<(f64, f64)> = Initial::paper_set()
             .iter()
             .skip(1)
             .map(|i| {
                 let p = i.waypoints_to(self.center)[1];
-                (p.x(), p.y())
+                (p.x() / PI, p.y() / PI)
             })
             .collect();
         chart
@@ -199,7 +197,7 @@ impl DesignPlot<'_> {
                 continue;
             };
             let mut pts = vec![(0.0, 0.0)];
-            pts.extend(best.path.iter().map(|p| (p.x(), p.y())));
+            pts.extend(best.path.iter().map(|p| (p.x() / PI, p.y() / PI)));
             pts.push(a);
             let colour = PALETTE[k];
             chart
@@ -217,7 +215,7 @@ impl DesignPlot<'_> {
         // The steady cycle of the best path (phi = 0: a segment through A).
         if let Some(l) = self.best_lambda() {
             let n = (1.0 + self.slope * self.slope).sqrt();
-            let (dx, dy) = (l / n, l * self.slope / n);
+            let (dx, dy) = (l / n / PI, l * self.slope / n / PI);
             chart
                 .draw_series(LineSeries::new(
                     vec![(a.0 - dx, a.1 - dy), (a.0 + dx, a.1 + dy)],
@@ -233,8 +231,8 @@ impl DesignPlot<'_> {
             .map_err(s)?;
         chart
             .draw_series([
-                Text::new("O", (0.15, -0.5), pen.text()),
-                Text::new("A", (a.0 + 0.15, a.1 - 0.5), pen.text()),
+                Text::new("O", (0.05, -0.16), pen.text()),
+                Text::new("A", (a.0 + 0.05, a.1 - 0.16), pen.text()),
             ])
             .map_err(s)?;
         Ok(())

@@ -17,10 +17,13 @@
 //! * [`data`]: the points a sweep figure draws, read from the runs or back
 //!   from a figure's CSV.
 
+mod axes;
 pub mod data;
 pub mod design;
 pub mod dissipation;
+mod marks;
 pub mod memory;
+pub mod profile;
 pub mod regime;
 pub mod slip_map;
 pub mod style;
@@ -28,6 +31,7 @@ pub mod style;
 pub use data::SweepPoint;
 pub use dissipation::DissipationPlot;
 pub use memory::MemoryPlot;
+pub use profile::ProfilePlot;
 pub use regime::RegimePlot;
 pub use slip_map::{SlipMapPlot, TimeOrigin};
 pub use style::{write_svg_png, Drawing, FigureStyle, Pen};

@@ -49,16 +49,15 @@ impl TimeOrigin {
     }
 }
 
-/// `0` when the increments either side of `omega t = 0` are slip-free, so
-/// no slip event is cut there; else the middle of the longest slip-free
-/// stretch of the cycle (taken round the cycle, so a stretch may wrap
-/// through `2 pi`): the slip events then sit whole in the middle of the
-/// axis. When every increment has slip somewhere, the start of the one in
+/// `0` when the rows either side of `omega t = 0` are slip-free, so no
+/// slip event is cut there; else the middle (in time) of the longest
+/// slip-free stretch of the cycle (taken round the cycle, so a stretch may
+/// wrap through `2 pi`): the slip events then sit whole in the middle of
+/// the axis. When every row has slip somewhere, the start of the one in
 /// which the fewest nodes slip.
 pub fn auto_origin(map: &SlipMap) -> f64 {
     let n = map.rows.len();
-    let quiet = |k: usize| !map.rows[k].directions.iter().any(|d| d.is_slipping());
-    if n > 0 && quiet(0) && quiet(n - 1) {
+    if n == 0 {
         return 0.0;
     }
     let slipping = |k: usize| {
@@ -68,31 +67,38 @@ pub fn auto_origin(map: &SlipMap) -> f64 {
             .filter(|d| d.is_slipping())
             .count()
     };
-    if n == 0 {
+    if slipping(0) == 0 && slipping(n - 1) == 0 {
         return 0.0;
     }
-    // The longest circular run of slip-free increments.
-    let mut best: Option<(usize, usize)> = None;
+    let span = |k: usize| {
+        let r = &map.rows[k % n];
+        r.t1 - r.t0
+    };
+    // The longest circular run of slip-free rows, by time.
+    let mut best: Option<(usize, f64)> = None;
     let mut k = 0;
     while k < n {
         if slipping(k) == 0 {
-            let mut len = 0;
+            let (mut len, mut time) = (0, 0.0);
             while len < n && slipping(k + len) == 0 {
+                time += span(k + len);
                 len += 1;
             }
-            if best.is_none_or(|(_, l)| len > l) {
-                best = Some((k, len));
+            if best.is_none_or(|(_, t)| time > t) {
+                best = Some((k, time));
             }
             k += len.max(1);
         } else {
             k += 1;
         }
     }
-    let k = match best {
-        Some((start, len)) => (start + len / 2) % n,
-        None => (0..n).min_by_key(|&k| (slipping(k), k)).unwrap_or(0),
-    };
-    map.rows[k].t0.rem_euclid(2.0 * PI)
+    match best {
+        Some((start, time)) => (map.rows[start].t0 + 0.5 * time).rem_euclid(2.0 * PI),
+        None => {
+            let k = (0..n).min_by_key(|&k| (slipping(k), k)).unwrap_or(0);
+            map.rows[k].t0.rem_euclid(2.0 * PI)
+        }
+    }
 }
 
 /// The pieces of `[t0, t1]` drawn on the axis `[origin, origin + 2 pi]`:
@@ -158,47 +164,78 @@ fn runs(map: &SlipMap, directions: &[SlipDirection]) -> Vec<Run> {
     out
 }
 
-/// The slip zones as smooth bands: quadrilaterals joining each zone's
-/// edges at the middle of one increment to those of the zone it continues
-/// as in the next, and half-increment caps where a zone appears or vanishes.
-/// `rows` are `(t0, t1, runs)` in drawn time (units of pi), in order.
+/// A zone over one row: `(t0, t1, lo, hi)`.
+type Segment = (f64, f64, f64, f64);
+
+/// The slip zones as smooth bands, one polygon per zone from where it
+/// appears (or splits off) to where it vanishes (or merges).
+///
+/// The rows are the cycle's sub-segments, which end at the exact event
+/// times (a node entering slip or sticking), not the increment grid; a
+/// zone's edge steps by one node at such a time. The band's edge runs
+/// straight from one step to the next through the middle of each step, at
+/// the step's exact time, so it follows the zone without the staircase of
+/// the discrete nodes. `rows` are `(t0, t1, runs)` in drawn time (units of
+/// pi), in order.
 fn bands(rows: &[(f64, f64, Vec<Run>)]) -> Vec<(Vec<(f64, f64)>, SlipDirection)> {
-    let mut out = Vec::new();
-    // A zone moving faster than its own width per increment does not
-    // overlap itself in the next row: it continues there when the two are
-    // within the wider one's width.
-    let overlaps = |a: &Run, b: &Run| {
-        let tol = (a.1 - a.0).max(b.1 - b.0) + 1e-9;
+    // A zone continues in the next row when the two touch or overlap.
+    let continues = |a: &Run, b: &Run| {
+        let tol = 0.5 * (a.1 - a.0).min(b.1 - b.0).min(0.05) + 1e-9;
         a.2 == b.2 && a.0 <= b.1 + tol && b.0 <= a.1 + tol
     };
-    let rect = |lo: f64, hi: f64, t0: f64, t1: f64| vec![(lo, t0), (hi, t0), (hi, t1), (lo, t1)];
+    // Each zone's rows: (t0, t1, lo, hi), chained while it continues one
+    // to one.
+    let mut chains: Vec<(SlipDirection, Vec<Segment>)> = Vec::new();
+    let mut open: Vec<usize> = Vec::new();
     for (k, (t0, t1, runs)) in rows.iter().enumerate() {
-        let mid = 0.5 * (t0 + t1);
         // Adjacent rows only: not across a gap (the ends of the axis).
         let prev = k
             .checked_sub(1)
-            .map(|j| &rows[j])
-            .filter(|r| (r.1 - t0).abs() < 1e-9);
-        let next = rows.get(k + 1).filter(|r| (r.0 - t1).abs() < 1e-9);
+            .map(|j| &rows[j].2)
+            .filter(|_| (rows[k - 1].1 - t0).abs() < 1e-9);
+        let mut now = Vec::with_capacity(runs.len());
         for run in runs {
-            if !prev.is_some_and(|p| p.2.iter().any(|q| overlaps(q, run))) {
-                out.push((rect(run.0, run.1, *t0, mid), run.2));
-            }
-            match next {
-                Some(nx) if nx.2.iter().any(|q| overlaps(q, run)) => {
-                    let nmid = 0.5 * (nx.0 + nx.1);
-                    for q in nx.2.iter().filter(|q| overlaps(q, run)) {
-                        out.push((
-                            vec![(run.0, mid), (run.1, mid), (q.1, nmid), (q.0, nmid)],
-                            run.2,
-                        ));
+            let preds: Vec<usize> = prev
+                .map(|p| (0..p.len()).filter(|&i| continues(&p[i], run)).collect())
+                .unwrap_or_default();
+            let one_to_one = preds.len() == 1
+                && runs
+                    .iter()
+                    .filter(|r| continues(&prev.unwrap()[preds[0]], r))
+                    .count()
+                    == 1;
+            let chain = if one_to_one {
+                open[preds[0]]
+            } else {
+                chains.push((run.2, Vec::new()));
+                chains.len() - 1
+            };
+            chains[chain].1.push((*t0, *t1, run.0, run.1));
+            now.push(chain);
+        }
+        open = now;
+    }
+    chains
+        .into_iter()
+        .map(|(dir, segs)| {
+            // The edge's knots: its ends, and the middle of every step.
+            let knots = |edge: fn(&Segment) -> f64| {
+                let mut v = vec![(edge(&segs[0]), segs[0].0)];
+                for w in segs.windows(2) {
+                    let (a, b) = (edge(&w[0]), edge(&w[1]));
+                    if a != b {
+                        v.push((0.5 * (a + b), w[0].1));
                     }
                 }
-                _ => out.push((rect(run.0, run.1, mid, *t1), run.2)),
-            }
-        }
-    }
-    out
+                let last = &segs[segs.len() - 1];
+                v.push((edge(last), last.1));
+                v
+            };
+            let mut outline = knots(|s| s.2);
+            outline.extend(knots(|s| s.3).into_iter().rev());
+            (outline, dir)
+        })
+        .collect()
 }
 
 impl SlipMapPlot<'_> {

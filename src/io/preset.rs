@@ -22,7 +22,7 @@ use crate::model::path::Initial;
 use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError, Plane};
 
 /// The built-in presets: name and TOML text, in listing order.
-pub const BUILTIN: [(&str, &str); 8] = [
+pub const BUILTIN: [(&str, &str); 9] = [
     ("fig3", include_str!("../../presets/fig3.toml")),
     ("fig4", include_str!("../../presets/fig4.toml")),
     ("fig5", include_str!("../../presets/fig5.toml")),
@@ -31,6 +31,7 @@ pub const BUILTIN: [(&str, &str); 8] = [
     ("fig8", include_str!("../../presets/fig8.toml")),
     ("fig9", include_str!("../../presets/fig9.toml")),
     ("regime", include_str!("../../presets/regime.toml")),
+    ("biharmonic", include_str!("../../presets/biharmonic.toml")),
 ];
 
 /// A preset that cannot be used.
@@ -344,9 +345,50 @@ struct CaseToml {
     plane: Option<Spanned<Plane>>,
     initial: Option<Spanned<String>>,
     initial_path: Option<Spanned<Vec<Vec<Num>>>>,
+    cycle: Option<Spanned<CycleToml>>,
     nodes: Option<Spanned<usize>>,
     steps: Option<Spanned<usize>>,
     max_cycles: Option<Spanned<usize>>,
+}
+
+/// `cycle = "FILE"` (a cycle CSV, relative to the preset's folder) or an
+/// inline `cycle = [[u, v], ...]` (model.md section 5.4).
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+enum CycleToml {
+    File(String),
+    Inline(Vec<Vec<Num>>),
+}
+
+/// The polyline of a preset's `cycle` key.
+fn cycle_of(ctx: &Ctx, v: &Spanned<CycleToml>) -> Result<crate::model::Polyline, PresetError> {
+    let at = |e: String| ctx.at(v.span(), format!("case.cycle: {e}"));
+    match v.get_ref() {
+        CycleToml::File(name) => {
+            let path = std::path::Path::new(name);
+            let path = match std::path::Path::new(ctx.file).parent() {
+                Some(dir) if path.is_relative() => dir.join(path),
+                _ => path.to_path_buf(),
+            };
+            crate::io::cycle::read_cycle_file(&path)
+                .map_err(|e| at(format!("{}: {e}", crate::io::read::escape_text(name, 200))))
+        }
+        CycleToml::Inline(rows) => {
+            let mut vertices = Vec::with_capacity(rows.len());
+            for row in rows {
+                if row.len() != 2 {
+                    return Err(at(format!(
+                        "expected vertices [u, v], found one with {} values",
+                        row.len()
+                    )));
+                }
+                let u = row[0].angle().map_err(|e| at(e.to_string()))?;
+                let w = row[1].angle().map_err(|e| at(e.to_string()))?;
+                vertices.push(LoadPoint::new(u, w));
+            }
+            crate::io::cycle::inline_cycle(vertices).map_err(|e| at(e.to_string()))
+        }
+    }
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -445,7 +487,35 @@ pub fn parse(text: &str, file: &str, default_name: &str) -> Result<Preset, Prese
         ));
     }
 
-    let params = case_params(&ctx, &raw.case)?;
+    let mut params = case_params(&ctx, &raw.case)?;
+    if let Some(v) = &raw.case.cycle {
+        for (key, given) in [
+            ("phi", raw.case.phi.is_some()),
+            ("psi", raw.case.psi.is_some()),
+        ] {
+            if given {
+                return Err(ctx.at(
+                    v.span(),
+                    format!("case.cycle: a polyline cycle has no {key}: remove case.{key}"),
+                ));
+            }
+        }
+        if raw.sweep.phi.is_some() {
+            return Err(ctx.at(
+                v.span(),
+                "case.cycle: a polyline cycle has no phase: remove sweep.phi",
+            ));
+        }
+        let polyline = cycle_of(&ctx, v)?;
+        Cycle::polyline(
+            LoadPoint::new(params.center.0, params.center.1),
+            params.load_factor,
+            polyline.clone(),
+        )
+        .and_then(|c| c.check_steps(params.steps))
+        .map_err(|e| ctx.at(v.span(), format!("case.cycle: {e}")))?;
+        params.cycle = Some(polyline);
+    }
     let mut sweep = sweep_lists(&ctx, &raw.sweep, &params)?;
     let initial_path = match &raw.case.initial_path {
         None => None,
@@ -538,7 +608,12 @@ fn case_params(ctx: &Ctx, c: &CaseToml) -> Result<CaseParams, PresetError> {
         p.plane = *v.get_ref();
     }
     if let Some(v) = &c.initial {
-        p.initial = v.get_ref().trim().to_string();
+        let text = v.get_ref().trim();
+        p.initial = if text.eq_ignore_ascii_case("optimal") {
+            Initial::Optimal
+        } else {
+            Initial::parse(text).map_err(|e| ctx.at(v.span(), format!("case.initial: {e}")))?
+        };
     }
     if let Some(v) = &c.nodes {
         p.nodes = *v.get_ref();
@@ -565,11 +640,7 @@ fn case_params(ctx: &Ctx, c: &CaseToml) -> Result<CaseParams, PresetError> {
         }
     };
     let param_error = |e: ParamError| {
-        let name = match &e {
-            ParamError::NotFinite { name, .. }
-            | ParamError::OutOfRange { name, .. }
-            | ParamError::BadCount { name, .. } => *name,
-        };
+        let name = e.name();
         match span_of(name) {
             Some(span) => ctx.at(span, format!("case: {e}")),
             None => ctx.whole(format!("case: {e}")),
@@ -593,14 +664,6 @@ fn case_params(ctx: &Ctx, c: &CaseToml) -> Result<CaseParams, PresetError> {
             Some(v) => ctx.at(v.span(), message),
             None => ctx.whole(message),
         });
-    }
-    if !p.initial.eq_ignore_ascii_case("optimal") {
-        if let Err(e) = Initial::parse(&p.initial) {
-            return Err(match &c.initial {
-                Some(v) => ctx.at(v.span(), format!("case.initial: {e}")),
-                None => ctx.whole(format!("case.initial: {e}")),
-            });
-        }
     }
     Ok(p)
 }
@@ -636,9 +699,7 @@ fn sweep_lists(ctx: &Ctx, s: &SweepToml, p: &CaseParams) -> Result<SweepLists, P
     let initials = match &s.initial {
         Some(v) => Initial::parse_list(v.get_ref())
             .map_err(|e| ctx.at(v.span(), format!("sweep.initial: {e}")))?,
-        None => {
-            Initial::parse_list(&p.initial).map_err(|e| ctx.whole(format!("case.initial: {e}")))?
-        }
+        None => vec![p.initial.clone()],
     };
     let runs = load_factors
         .len()

@@ -53,6 +53,26 @@ pub fn read_capped(path: &Path, cap: u64) -> Result<Vec<u8>, ReadError> {
     Ok(bytes)
 }
 
+/// The first `max` bytes (or fewer) of the regular file `path`: enough to
+/// read a CSV's `# key = value` header before deciding how much of the
+/// file may be read. FIFOs and devices are refused before they are opened.
+///
+/// # Errors
+///
+/// [`ReadError`]: the file is missing or unreadable, or not a regular file.
+pub fn read_head(path: &Path, max: u64) -> Result<Vec<u8>, ReadError> {
+    let meta = std::fs::metadata(path).map_err(|e| ReadError::Io(e.to_string()))?;
+    if !meta.is_file() {
+        return Err(ReadError::NotRegular);
+    }
+    let file = std::fs::File::open(path).map_err(|e| ReadError::Io(e.to_string()))?;
+    let mut bytes = Vec::new();
+    file.take(max)
+        .read_to_end(&mut bytes)
+        .map_err(|e| ReadError::Io(e.to_string()))?;
+    Ok(bytes)
+}
+
 /// Read a regular file as UTF-8 text through [`read_capped`].
 ///
 /// # Errors

@@ -49,14 +49,14 @@ impl Default for Discretisation {
 
 impl Discretisation {
     /// Fewest interface nodes `N` accepted.
-    pub const MIN_NODES: usize = 16;
+    pub const MIN_NODES: usize = super::ranges::NODES.min;
     /// Most interface nodes `N` accepted (the operators are dense
     /// `N x N` matrices).
-    pub const MAX_NODES: usize = 4096;
+    pub const MAX_NODES: usize = super::ranges::NODES.max;
     /// Fewest increments per cycle accepted.
-    pub const MIN_STEPS: usize = 16;
+    pub const MIN_STEPS: usize = super::ranges::STEPS.min;
     /// Most increments per cycle accepted.
-    pub const MAX_STEPS: usize = 100_000;
+    pub const MAX_STEPS: usize = super::ranges::STEPS.max;
 
     /// `nodes` interface nodes and `steps_per_cycle` increments per cycle.
     ///
@@ -67,20 +67,8 @@ impl Discretisation {
     /// [`ParamError::BadCount`] (named `steps`) unless `steps_per_cycle` is in
     /// [`MIN_STEPS`](Self::MIN_STEPS)`..=`[`MAX_STEPS`](Self::MAX_STEPS).
     pub fn new(nodes: usize, steps_per_cycle: usize) -> Result<Self, ParamError> {
-        if !(Self::MIN_NODES..=Self::MAX_NODES).contains(&nodes) || !nodes.is_multiple_of(2) {
-            return Err(ParamError::BadCount {
-                name: "nodes",
-                value: nodes,
-                expected: "an even number from 16 to 4096",
-            });
-        }
-        if !(Self::MIN_STEPS..=Self::MAX_STEPS).contains(&steps_per_cycle) {
-            return Err(ParamError::BadCount {
-                name: "steps",
-                value: steps_per_cycle,
-                expected: "16 to 100000 increments per cycle",
-            });
-        }
+        let nodes = super::ranges::NODES.check(nodes)?;
+        let steps_per_cycle = super::ranges::STEPS.check(steps_per_cycle)?;
         Ok(Self {
             nodes,
             steps_per_cycle,

@@ -27,7 +27,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{finite, LoadPoint, Loads, ParamError};
+use super::{LoadPoint, Loads, ParamError};
 
 /// Plane strain or plane stress: decides Kolosov's constant `kappa`
 /// (model.md section 1.1).
@@ -110,22 +110,8 @@ impl Material {
     /// ));
     /// ```
     pub fn new(friction: f64, poisson: f64, plane: Plane) -> Result<Self, ParamError> {
-        let friction = finite("friction", friction)?;
-        let poisson = finite("nu", poisson)?;
-        if friction <= 0.0 || friction > 10.0 {
-            return Err(ParamError::OutOfRange {
-                name: "friction",
-                value: friction,
-                expected: "0 < f <= 10",
-            });
-        }
-        if !(0.0..0.5).contains(&poisson) {
-            return Err(ParamError::OutOfRange {
-                name: "nu",
-                value: poisson,
-                expected: "0 <= nu < 0.5",
-            });
-        }
+        let friction = super::ranges::FRICTION.check(friction)?;
+        let poisson = super::ranges::NU.check(poisson)?;
         let kappa = match plane {
             Plane::Strain => 3.0 - 4.0 * poisson,
             Plane::Stress => (3.0 - poisson) / (1.0 + poisson),

@@ -11,8 +11,9 @@ mod discretisation;
 mod load;
 mod material;
 pub mod path;
+pub mod ranges;
 
-pub use cycle::Cycle;
+pub use cycle::{Cycle, Polyline, Shape, MAX_VERTICES};
 pub use discretisation::Discretisation;
 pub use load::{LoadPoint, Loads};
 pub use material::{Material, Plane};
@@ -56,6 +57,27 @@ pub enum ParamError {
         /// The admissible counts, in words.
         expected: &'static str,
     },
+    /// The increments per cycle do not split a polyline cycle into equal
+    /// increments per chord (model.md section 5.4).
+    #[error("steps = {steps} is out of range: expected a multiple of the cycle's {vertices} vertices, so that each chord gets the same increments (e.g. {})", steps.div_ceil(*vertices).max(1) * vertices)]
+    StepsPerChord {
+        /// The increments per cycle given.
+        steps: usize,
+        /// The cycle's vertex count.
+        vertices: usize,
+    },
+}
+
+impl ParamError {
+    /// The parameter as the command line spells it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ParamError::NotFinite { name, .. }
+            | ParamError::OutOfRange { name, .. }
+            | ParamError::BadCount { name, .. } => name,
+            ParamError::StepsPerChord { .. } => "steps",
+        }
+    }
 }
 
 pub(crate) fn finite(name: &'static str, value: f64) -> Result<f64, ParamError> {

@@ -322,6 +322,14 @@ fn custom_name(points: &[LoadPoint]) -> String {
     format!("path:{}", parts.join(";"))
 }
 
+/// Serialised as its stable [`Initial::name`] (a slip's values are in
+/// their own file, named by content).
+impl serde::Serialize for Initial {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.name())
+    }
+}
+
 impl std::fmt::Display for Initial {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(&self.name())

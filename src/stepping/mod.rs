@@ -15,7 +15,7 @@ mod zones;
 
 pub use driver::{drive, Control, Driven, Goal, Observer, Silent};
 pub use options::{StepError, StepOptions};
-pub use outcome::{GrossSlip, Outcome, Separation, ShakedownProof, Verdict};
+pub use outcome::{GrossSlip, Level, Outcome, Separation, ShakedownProof, Verdict};
 pub use report::{AtCenter, Event, Phase, Status, StepReport};
 pub use safe_state::Certificate;
 pub use stepper::{operators, Stepper};

@@ -36,6 +36,17 @@ pub struct Separation {
     pub theta: f64,
 }
 
+/// A steady value estimated from the cycles run, with a two-sided bound:
+/// the value lies in `[value - uncertainty, value + uncertainty]`
+/// (model.md section 6.1).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Level {
+    /// The estimate.
+    pub value: f64,
+    /// Half the width of the interval that holds the value.
+    pub uncertainty: f64,
+}
+
 /// How shakedown was established (model.md section 6).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -107,6 +118,18 @@ pub struct Outcome {
     pub rotation_per_cycle: f64,
     /// Complete cycles run.
     pub cycles: usize,
+    /// The steady level of `W` that the cycles approach, with its bound,
+    /// for cyclic slip and ratchetting (`None` otherwise): `dissipation`
+    /// is the last cycle's `W`, which the 0.01 % rule leaves up to a few
+    /// tenths of a per cent from the level where `W` approaches it slowly
+    /// (model.md section 6.1).
+    pub level: Option<Level>,
+    /// The steady net rotation per cycle, for cyclic slip and ratchetting
+    /// (`None` otherwise): 0 for cyclic slip, where the nodes that never
+    /// slip hold the mean of `g` (model.md section 6.2); the level the
+    /// rotation per cycle approaches for ratchetting. The last cycle's
+    /// drift apart from it is [`Outcome::rotation_drift`].
+    pub steady_rotation: Option<Level>,
 }
 
 impl Outcome {
@@ -141,6 +164,14 @@ impl Outcome {
     /// further step is possible.
     pub fn is_terminal(&self) -> bool {
         matches!(self.verdict, Verdict::GrossSlip(_) | Verdict::Separation(_))
+    }
+
+    /// How far the last cycle's rotation is from the steady rotation (the
+    /// cycles' approach to the steady cycle, not part of it), when there is
+    /// one.
+    pub fn rotation_drift(&self) -> Option<f64> {
+        self.steady_rotation
+            .map(|r| self.rotation_per_cycle - r.value)
     }
 
     /// The safe state that proved shakedown, if it was proven so.

@@ -3,6 +3,9 @@
 
 use serde::Serialize;
 
+use super::outcome::Level;
+use super::verdict::level;
+
 /// The steady state a run reaches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, PartialOrd, Ord)]
 #[serde(rename_all = "kebab-case")]
@@ -261,9 +264,16 @@ pub fn assess(history: &[CycleRecord], criteria: &Convergence) -> Option<(Steady
     None
 }
 
+/// How many times the 0.01 % tolerance the bound on the level of `W` may
+/// be for the run to have settled: `4e-4` at the paper's tolerance, so that
+/// the level reported is within 0.05 % of the level run out.
+pub const LEVEL_BOUND: f64 = 4.0;
+
 /// The state of a run whose `W` has settled: the last [`SETTLE_CYCLES`]
-/// relative changes of `W` within `tolerance` and the cycles classified
-/// alike.
+/// relative changes of `W` within `tolerance`, the cycles classified
+/// alike, and the level of `W` known to within [`LEVEL_BOUND`] times
+/// `tolerance` (which a turning point of `W`, with changes of both signs,
+/// or an approach still bending, does not give).
 fn settled(history: &[CycleRecord], tolerance: f64) -> Option<SteadyState> {
     if history.len() < SETTLE_CYCLES + 1 {
         return None;
@@ -277,10 +287,37 @@ fn settled(history: &[CycleRecord], tolerance: f64) -> Option<SteadyState> {
         return None;
     }
     let state = tail[SETTLE_CYCLES].classify();
-    tail[1..]
-        .iter()
-        .all(|r| r.classify() == state)
-        .then_some(state)
+    if !tail[1..].iter().all(|r| r.classify() == state) {
+        return None;
+    }
+    let w = dissipation_level(history)?;
+    (w.uncertainty <= LEVEL_BOUND * tolerance * w.value.abs()).then_some(state)
+}
+
+/// The level `W` approaches over the cycles of `history`, with its bound
+/// (model.md section 6.1); `None` while it is not known (a turning point,
+/// changes that do not shrink, too few cycles).
+pub fn dissipation_level(history: &[CycleRecord]) -> Option<Level> {
+    let w: Vec<f64> = history.iter().map(|r| r.dissipation).collect();
+    level(&w)
+}
+
+/// The steady net rotation per cycle of a run settled in `state`: exactly 0
+/// for cyclic slip (the nodes that never slip keep the mean of `g`:
+/// model.md section 6.2), the level the rotation per cycle approaches for
+/// ratchetting (`None` while it is not known), `None` for other states.
+pub fn steady_rotation(history: &[CycleRecord], state: SteadyState) -> Option<Level> {
+    match state {
+        SteadyState::CyclicSlip => Some(Level {
+            value: 0.0,
+            uncertainty: 0.0,
+        }),
+        SteadyState::RatchettingMonotonic | SteadyState::RatchettingNonMonotonic => {
+            let r: Vec<f64> = history.iter().map(|r| r.rotation).collect();
+            level(&r)
+        }
+        _ => None,
+    }
 }
 
 #[cfg(test)]
@@ -327,17 +364,50 @@ mod tests {
 
     #[test]
     fn settled_when_within_tolerance() {
-        let w = [2.0, 1.0, 1.00005, 1.00009, 1.0001];
-        let h: Vec<_> = w
-            .iter()
-            .enumerate()
-            .map(|(i, &w)| record(i + 1, w))
+        // Changes halving each cycle: within 0.01 % from the fourth on, and
+        // the level then known to well within the bound.
+        let h: Vec<_> = (1..=12)
+            .map(|k| record(k, 1.0 + 1e-3 * 0.5f64.powi(k as i32)))
             .collect();
         assert_eq!(assess(&h[..4], &Convergence::default()), None);
         assert_eq!(
             assess(&h, &Convergence::default()),
             Some((SteadyState::CyclicSlip, Approach::Converged))
         );
+        let level = dissipation_level(&h).unwrap();
+        assert!((level.value - 1.0).abs() < 1e-15, "{level:?}");
+    }
+
+    #[test]
+    fn a_turning_point_is_not_settled() {
+        // A fast fall and a slow rise: W turns at a minimum at cycle 22 and
+        // levels off 1 % above it. The changes are within 0.01 % around the
+        // minimum, but the level is not known there.
+        let w = |k: usize| 1.0 + 0.2 * 0.8f64.powi(k as i32) - 0.02 * 0.97f64.powi(k as i32);
+        let h: Vec<_> = (1..=400).map(|k| record(k, w(k))).collect();
+        let turn = (2..400)
+            .find(|&k| w(k) < w(k - 1) && w(k) <= w(k + 1))
+            .unwrap();
+        let settled = (4..=h.len())
+            .find(|&n| assess(&h[..n], &Convergence::default()).is_some())
+            .expect("settles");
+        assert!(
+            settled > turn + 10,
+            "settled at {settled}, turned at {turn}"
+        );
+        let level = dissipation_level(&h[..settled]).unwrap();
+        assert!((level.value - 1.0).abs() <= level.uncertainty, "{level:?}");
+        assert!(level.uncertainty <= 4e-4, "{level:?}");
+    }
+
+    #[test]
+    fn changes_that_do_not_shrink_are_not_settled() {
+        // Within 0.01 % a cycle, but W goes on rising by as much each
+        // cycle: no level, however small the changes.
+        let h: Vec<_> = (1..=30).map(|k| record(k, 1.0 + 5e-5 * k as f64)).collect();
+        for n in 4..=h.len() {
+            assert_eq!(assess(&h[..n], &Convergence::default()), None);
+        }
     }
 
     #[test]

@@ -194,21 +194,16 @@ pub fn entries(events: &[Event], at: At, directions: &[SlipDirection]) -> Vec<Lo
                 }
             }
             Event::AdvancingStick {
-                nodes,
-                substeps,
-                time,
-                load,
+                nodes, time, load, ..
             } => {
                 // Located exactly within the increment by the engine.
                 let mut e = entry(
                     EventKind::AdvancingStick,
                     nodes.len(),
                     theta_range(nodes, n),
-                    format!(
-                        "advancing stick at {} ({})",
-                        plural(nodes.len(), "node"),
-                        plural(*substeps, "sub-segment")
-                    ),
+                    // The sub-segments belong to the increment, not the
+                    // event: the tractions panel counts them, once.
+                    format!("advancing stick at {}", plural(nodes.len(), "node")),
                 );
                 e.load = (load.x(), load.y());
                 e.time = time.or(e.time);

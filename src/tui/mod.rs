@@ -46,7 +46,7 @@ const IDLE_WAIT: Duration = Duration::from_millis(250);
 pub fn default_params() -> CaseParams {
     CaseParams {
         load_factor: 6.0,
-        initial: "7,-7".into(),
+        initial: crate::model::Initial::Via { a: 7, b: -7 },
         ..CaseParams::default()
     }
 }
@@ -136,6 +136,17 @@ pub fn run(case: Case, preset: Option<Preset>) -> Result<(), TuiError> {
 /// after `q`, 130 after Ctrl-C, 128 + the signal after SIGTERM, SIGHUP or
 /// SIGQUIT (the terminal is restored first in every case).
 pub fn run_with(case: Case, preset: Option<Preset>, config: Config) -> Result<u8, TuiError> {
+    run_app(case, preset, config, false)
+}
+
+/// [`run_with`], opening on the guided tour's first stop (`tui --tour`):
+/// the tour's cases use the model of `case` (its disc, material and
+/// solver options).
+pub fn run_tour(case: Case, preset: Option<Preset>, config: Config) -> Result<u8, TuiError> {
+    run_app(case, preset, config, true)
+}
+
+fn run_app(case: Case, preset: Option<Preset>, config: Config, tour: bool) -> Result<u8, TuiError> {
     terminal::check_tty()?;
     let signals = terminal::signals();
     let mut app = match preset {
@@ -145,6 +156,9 @@ pub fn run_with(case: Case, preset: Option<Preset>, config: Config) -> Result<u8
         }
         None => App::new(case, config),
     };
+    if tour {
+        app.start_tour();
+    }
     let mut term = terminal::setup()?;
     let result = event_loop(&mut term, &mut app, &signals);
     terminal::restore();

@@ -4,8 +4,7 @@
 //! background threads, `lambda_2(phi)` from the linear programme, and the
 //! cursor over the cells. No terminal I/O here and no physics: the runs
 //! are [`SweepSpec::run_ordered`]'s, the map is a [`RegimeMap`] and the
-//! limit curve is [`shakedown_limit`] at each phase (as
-//! [`crate::analysis::limit_curve`] computes it).
+//! limit curve is [`lambda2_curve`]'s.
 //!
 //! The map computes only while it is on screen. Leaving it, or starting
 //! it again (another transient, a rerun), cancels the runs it replaces:
@@ -14,12 +13,12 @@
 //! flat memory. The cells already done are kept when it is only left, and
 //! coming back runs the rest.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::Arc;
 
 use crate::analysis::case::Case;
-use crate::analysis::limit::shakedown_limit;
+use crate::analysis::curves::lambda2_curve;
 use crate::analysis::ordered::{Interrupt, StopLevel};
 use crate::analysis::regime::{RegimeCell, RegimeMap};
 use crate::analysis::sweep::{Job, Row, SweepLists, SweepSpec};
@@ -203,6 +202,8 @@ pub struct Regime {
     curve_rx: Option<Receiver<Vec<Option<f64>>>>,
     alive: Arc<AtomicUsize>,
     started: bool,
+    /// When the runs (re)started and how many cells were done then.
+    clock: Option<(std::time::Instant, usize)>,
 }
 
 impl Regime {
@@ -222,6 +223,7 @@ impl Regime {
             curve_rx: None,
             alive: Arc::new(AtomicUsize::new(0)),
             started: false,
+            clock: None,
         }
     }
 
@@ -242,6 +244,7 @@ impl Regime {
         if todo.is_empty() {
             return;
         }
+        self.clock = Some((std::time::Instant::now(), self.done()));
         let interrupt = Arc::new(Interrupt::new());
         let (tx, rx) = mpsc::channel();
         let spec = spec.clone();
@@ -272,21 +275,7 @@ impl Regime {
         // One programme after another on this thread, not on rayon's pool,
         // where a sweep's runs may be queued ahead of them.
         std::thread::spawn(move || {
-            let curve: Vec<Option<f64>> = phases
-                .iter()
-                .map(|&phase| {
-                    shakedown_limit(
-                        &spec.material(),
-                        spec.center(),
-                        spec.slope(),
-                        phase,
-                        &spec.disc(),
-                        CURVE_SAMPLES,
-                    )
-                    .ok()
-                    .map(|l| l.load_factor)
-                })
-                .collect();
+            let curve = lambda2_curve(&spec, &phases, CURVE_SAMPLES, &AtomicBool::new(false));
             // Counted out before the curve arrives, so that once it has,
             // this thread no longer counts.
             drop(alive);
@@ -378,6 +367,13 @@ impl Regime {
     pub fn source(&self) -> &RegimeSource {
         &self.source
     }
+
+    /// About how long the cells left will take, at the rate since the
+    /// runs last started; `None` until one is done.
+    pub fn time_left(&self) -> Option<std::time::Duration> {
+        super::sweep::time_left(self.clock, self.done(), self.total(), self.is_running())
+    }
+
     /// The transient the map is for.
     pub fn initial(&self) -> &Initial {
         &self.initial

@@ -1,7 +1,7 @@
 //! The sweep view's state: a preset's sweep running on background threads,
 //! its rows as they arrive, `lambda_2`, and the cursor. No terminal I/O
 //! here, and no physics: the runs are [`SweepSpec::run`]'s and the limit is
-//! [`shakedown_limit`]'s.
+//! [`limit_at`]'s.
 //!
 //! A full preset sweep takes tens of seconds, so it runs off the UI thread
 //! and hands each finished run over a channel; the UI drains the channel
@@ -12,7 +12,8 @@ use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::Arc;
 
 use crate::analysis::case::Case;
-use crate::analysis::limit::{shakedown_limit, Limit, DEFAULT_SAMPLES};
+use crate::analysis::curves::limit_at;
+use crate::analysis::limit::{Limit, DEFAULT_SAMPLES};
 use crate::analysis::sweep::Axis;
 use crate::analysis::sweep::{Job, Row, SweepSpec};
 use crate::io::preset::Preset;
@@ -97,6 +98,9 @@ pub struct Sweep {
     started: bool,
     /// The runs' thread is done (the limit's may not be).
     runs_finished: bool,
+    /// When the runs started, and how many were done then: the rate the
+    /// estimate of the time left is made from.
+    clock: Option<(std::time::Instant, usize)>,
 }
 
 impl Sweep {
@@ -134,6 +138,7 @@ impl Sweep {
             limit_rx: None,
             started: false,
             runs_finished: false,
+            clock: None,
             source,
         }
     }
@@ -156,6 +161,7 @@ impl Sweep {
         self.done = 0;
         self.started = true;
         self.runs_finished = false;
+        self.clock = Some((std::time::Instant::now(), 0));
         let cancel = Arc::new(AtomicBool::new(false));
         let (tx, rx) = mpsc::channel();
         if let Some(phase) = Self::limit_phase(&self.source) {
@@ -165,15 +171,7 @@ impl Sweep {
                 let (tx, rx) = mpsc::channel();
                 self.limit_rx = Some(rx);
                 std::thread::spawn(move || {
-                    let limit = shakedown_limit(
-                        &spec.material(),
-                        spec.center(),
-                        spec.slope(),
-                        phase,
-                        &spec.disc(),
-                        DEFAULT_SAMPLES,
-                    )
-                    .map_err(|e| e.to_string());
+                    let limit = limit_at(&spec, phase, DEFAULT_SAMPLES).map_err(|e| e.to_string());
                     let _ = tx.send(limit);
                 });
             }
@@ -266,6 +264,12 @@ impl Sweep {
 
     // ----- what the panel reads -------------------------------------------
 
+    /// About how long the runs left will take, at the rate of the runs
+    /// done since the sweep started; `None` until one is done.
+    pub fn time_left(&self) -> Option<std::time::Duration> {
+        time_left(self.clock, self.done, self.total(), self.is_running())
+    }
+
     /// What the view runs.
     pub fn source(&self) -> &SweepSource {
         &self.source
@@ -351,5 +355,48 @@ impl Sweep {
             return;
         }
         self.cursor.1 = (self.cursor.1 as isize + delta).rem_euclid(len) as usize;
+    }
+}
+
+/// The time the runs left will take at the rate since `clock` (when the
+/// work started, and how many runs were done then): `None` while nothing
+/// is running or no run has finished since.
+pub fn time_left(
+    clock: Option<(std::time::Instant, usize)>,
+    done: usize,
+    total: usize,
+    running: bool,
+) -> Option<std::time::Duration> {
+    let (start, done_then) = clock?;
+    let since = done.checked_sub(done_then).filter(|&d| d > 0 && running)?;
+    let per_run = start.elapsed().as_secs_f64() / since as f64;
+    Some(std::time::Duration::from_secs_f64(
+        per_run * total.saturating_sub(done) as f64,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::{Duration, Instant};
+
+    use super::time_left;
+
+    #[test]
+    fn the_time_left_is_the_rate_so_far() {
+        let start = Instant::now() - Duration::from_secs(10);
+        // 5 runs in 10 s since the start, 10 left: about 20 s.
+        let left = time_left(Some((start, 5)), 10, 20, true).unwrap();
+        assert!((left.as_secs_f64() - 20.0).abs() < 0.5, "{left:?}");
+        assert_eq!(
+            time_left(Some((start, 5)), 5, 20, true),
+            None,
+            "none done yet"
+        );
+        assert_eq!(
+            time_left(Some((start, 0)), 5, 20, false),
+            None,
+            "not running"
+        );
+        assert_eq!(time_left(None, 5, 20, true), None);
     }
 }

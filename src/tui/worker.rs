@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 use super::history::{Detail, Record, BACKWARD, FORWARD, NEWLY_STUCK, STICK};
 use super::log::{self, At, Filter};
 use crate::analysis::case::Case;
+use crate::analysis::curves;
 use crate::analysis::episodes::{EpisodeTracker, LockedSlip};
 use crate::contact::{Operators, SlipDirection};
 use crate::model::path::Segment;
@@ -179,6 +180,9 @@ struct Thread {
     commands: Receiver<Command>,
     replies: SyncSender<Reply>,
     stepper: Option<Stepper>,
+    /// Why the last case has no stepper: its optimal slip could not be
+    /// found.
+    unresolved: Option<String>,
     /// `g` when each node's slip episode began, for what advancing stick
     /// locks in; it follows the stepper across drives.
     episodes: Option<EpisodeTracker>,
@@ -200,6 +204,7 @@ impl Thread {
             commands,
             replies,
             stepper: None,
+            unresolved: None,
             episodes: None,
             generation: 0,
             filter: None,
@@ -248,11 +253,25 @@ impl Thread {
                         }
                     }
                 }
+                // The optimal slip's linear programme is solved here, off
+                // the UI thread, like every other step of the run.
+                let initial = curves::resolve_initial(
+                    &case.initial,
+                    &case.material,
+                    &case.cycle,
+                    &case.disc,
+                    None,
+                );
+                self.unresolved = initial
+                    .as_ref()
+                    .err()
+                    .map(|e| format!("no optimal slip: {e}"));
+                let initial = initial.unwrap_or_else(|_| case.initial.clone());
                 let mut stepper = Stepper::with_operators(
                     Arc::clone(&self.operators),
                     case.material,
                     case.disc,
-                    &case.initial,
+                    &initial,
                     case.cycle,
                     case.options,
                 );
@@ -341,6 +360,9 @@ impl Thread {
     /// One call of the driver. `to_the_end`: the goal is the user's (so
     /// the end of the run reports `Ended` rather than `Reached`).
     fn drive(&mut self, goal: stepping::Goal, to_the_end: bool) -> Stopped {
+        if let Some(why) = &self.unresolved {
+            return Stopped::Failed(why.clone());
+        }
         let Some(mut stepper) = self.stepper.take() else {
             return Stopped::Failed("no run".into());
         };

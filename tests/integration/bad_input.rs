@@ -1345,3 +1345,145 @@ fn huge_thread_counts_are_clamped_with_a_warning() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("RAYON_NUM_THREADS=100000"), "{err}");
 }
+
+#[test]
+fn figure_from_refuses_a_flag_against_its_model_and_a_partial_table() {
+    let dir = temp_dir("from-model");
+    let grid = ["--lambda", "4.5,5", "--initial", "OA"];
+    ok_in(
+        &dir,
+        &[
+            &["figure", "fig3", "--out", "made", "--friction", "0.2"][..],
+            &grid,
+            &TINY[..4],
+        ]
+        .concat(),
+    );
+    // A model flag that contradicts the CSV's header.
+    refused_in(
+        &dir,
+        &[
+            &[
+                "figure",
+                "fig3",
+                "--from",
+                "made/fig3.csv",
+                "--out",
+                "re",
+                "--friction",
+                "0.1",
+            ][..],
+            &grid,
+        ]
+        .concat(),
+        &["--from made/fig3.csv", "friction = 0.2", "drop --friction"],
+    );
+    // A partial table without --partial.
+    let text = std::fs::read_to_string(dir.join("made/fig3.csv")).unwrap();
+    let keep = text.trim_end().rfind('\n').unwrap() + 1;
+    std::fs::write(dir.join("part.csv"), &text[..keep]).unwrap();
+    refused_in(
+        &dir,
+        &[
+            &["figure", "fig3", "--from", "part.csv", "--out", "re"][..],
+            &grid,
+        ]
+        .concat(),
+        &["--from part.csv", "partial: 1 of 2 runs", "--partial"],
+    );
+    // --partial only with --from.
+    refused_in(
+        &dir,
+        &["figure", "fig3", "--out", "re", "--partial"],
+        &["--from <FILE.csv>"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn every_figure_reader_checks_its_file() {
+    let dir = temp_dir("from-readers");
+    // The memory figure: a row whose counts do not add up.
+    ok_in(
+        &dir,
+        &[
+            "figure", "fig4", "--out", "m", "--lambda", "4,5", "--nodes", "32", "--steps", "100",
+        ],
+    );
+    let memory = std::fs::read_to_string(dir.join("m/fig4.csv")).unwrap();
+    let last = memory.trim_end().rfind('\n').unwrap() + 1;
+    let mut row: Vec<String> = memory[last..]
+        .trim_end()
+        .split(',')
+        .map(String::from)
+        .collect();
+    row[4] = (row[4].parse::<usize>().unwrap() + 1).to_string();
+    std::fs::write(
+        dir.join("bad4.csv"),
+        format!("{}{}\n", &memory[..last], row.join(",")),
+    )
+    .unwrap();
+    refused_in(
+        &dir,
+        &[
+            "figure", "fig4", "--from", "bad4.csv", "--out", "m2", "--lambda", "4,5",
+        ],
+        &["--from bad4.csv", "do not add up"],
+    );
+    // The regime map's curve beside its CSV: a lambda_2 that is not positive.
+    let regime = [
+        "figure", "regime", "--out", "r", "--lambda", "4,5", "--phi", "0,pi/2", "--nodes", "32",
+        "--steps", "100",
+    ];
+    ok_in(&dir, &regime);
+    let curve = std::fs::read_to_string(dir.join("r/regime_limit.csv")).unwrap();
+    let mut lines: Vec<String> = curve.lines().map(String::from).collect();
+    let n = lines.len() - 1;
+    let mut f: Vec<String> = lines[n].split(',').map(String::from).collect();
+    f[1] = "-1".into();
+    lines[n] = f.join(",");
+    std::fs::write(dir.join("r/regime_limit.csv"), lines.join("\n") + "\n").unwrap();
+    refused_in(
+        &dir,
+        &[
+            "figure",
+            "regime",
+            "--from",
+            "r/regime.csv",
+            "--out",
+            "r2",
+            "--lambda",
+            "4,5",
+            "--phi",
+            "0,pi/2",
+        ],
+        &["regime_limit.csv", "not positive"],
+    );
+    // A slip map whose load table is a FIFO or missing.
+    ok_in(
+        &dir,
+        &[
+            "figure", "fig7", "--out", "s", "--nodes", "32", "--steps", "100",
+        ],
+    );
+    std::fs::remove_file(dir.join("s/fig7_load.csv")).unwrap();
+    refused_in(
+        &dir,
+        &["figure", "fig7", "--from", "s/fig7.csv", "--out", "s2"],
+        &["--from s/fig7.csv", "fig7_load.csv"],
+    );
+    #[cfg(unix)]
+    {
+        let fifo = Command::new("mkfifo")
+            .arg(dir.join("s/fig7_load.csv"))
+            .status();
+        if fifo.is_ok_and(|s| s.success()) {
+            refused_in(
+                &dir,
+                &["figure", "fig7", "--from", "s/fig7.csv", "--out", "s2"],
+                &["fig7_load.csv", "not a regular file"],
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -244,5 +244,7 @@ pub fn fake_outcome(
         dissipation,
         cycles,
         rotation_per_cycle: 0.0,
+        level: None,
+        steady_rotation: None,
     }
 }

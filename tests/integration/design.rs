@@ -175,6 +175,29 @@ fn no_path_shakes_down_above_lambda_2() {
     assert!(found.best.unwrap().shakes_down());
 }
 
+/// `--gross-gap G` keeps every vertex at least `G` inside the gross-slip
+/// line, and the report's region says so.
+#[test]
+fn a_wider_gross_gap_keeps_every_vertex_inside_it() {
+    let v = design(&[
+        "--lambda",
+        "4.3",
+        "--vertices",
+        "3",
+        "--particles",
+        "6",
+        "--iterations",
+        "2",
+        "--gross-gap",
+        "1.5",
+    ]);
+    let y_max = v["region"]["y_max"].as_f64().unwrap();
+    assert!((y_max - (2.0 * PI - 1.5)).abs() < 1e-12, "{y_max}");
+    for p in v["path"].as_array().unwrap() {
+        assert!(p[1].as_f64().unwrap().abs() <= y_max, "{p}");
+    }
+}
+
 #[test]
 fn design_refuses_bad_input() {
     for (args, flag) in [
@@ -192,6 +215,14 @@ fn design_refuses_bad_input() {
             "--initial",
         ),
         (vec!["design", "--frontier", "--lambda", "4.8"], "--lambda"),
+        (
+            vec!["design", "--lambda", "4.8", "--gross-gap", "0"],
+            "--gross-gap",
+        ),
+        (
+            vec!["design", "--lambda", "4.8", "--gross-gap", "nan"],
+            "--gross-gap",
+        ),
     ] {
         let o = shakedown(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
@@ -199,4 +230,27 @@ fn design_refuses_bad_input() {
         assert!(err.contains(flag), "{args:?}: {err}");
         assert_eq!(err.trim().lines().count(), 1, "{err}");
     }
+}
+
+/// `figure design --from` reads only the frontier's own table, through the
+/// capped reader: another table, a FIFO and a missing file are refused
+/// with one line and exit 2, and nothing is drawn.
+#[test]
+fn figure_design_refuses_what_is_not_a_frontier_table() {
+    let dir = super::common::scratch("figure_design_from");
+    let other = dir.join("other.csv");
+    std::fs::write(
+        &other,
+        "# shakedown = 0.1.0\n# table = sweep\nlambda,phi,initial\n",
+    )
+    .unwrap();
+    let missing = dir.join("missing.csv");
+    for from in [&other, &missing, &std::path::PathBuf::from("/dev/zero")] {
+        let o = shakedown(&["figure", "design", "--from", from.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{from:?}");
+        let err = super::common::stderr(&o);
+        assert!(err.contains("--from"), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+    assert!(!dir.join("design.svg").exists());
 }

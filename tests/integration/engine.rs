@@ -312,7 +312,7 @@ fn terminal_time_and_load_are_the_same_instant() {
         m,
         Discretisation::new(128, steps).unwrap(),
         &Initial::Direct,
-        cycle,
+        cycle.clone(),
         StepOptions::default(),
     );
     let summary = s.run_to_steady().unwrap();
@@ -576,7 +576,7 @@ fn a_straight_run_of_increments_taken_at_once_meets_the_same_events() {
     // phi = 0: each half cycle is one straight run, the transient's
     // segments are straight, and a step takes each whole.
     let cycle = Cycle::paper(5.5, 0.0).unwrap();
-    let (one, i1, e1, steps1) = stepped(cycle, 200, false);
+    let (one, i1, e1, steps1) = stepped(cycle.clone(), 200, false);
     let (run, i2, e2, steps2) = stepped(cycle, 200, true);
     assert_eq!(one.state(), SteadyState::CyclicSlip);
     assert_eq!((one.state(), one.cycles), (run.state(), run.cycles));
@@ -595,7 +595,7 @@ fn only_straight_runs_are_taken_at_once() {
     // An odd increment count: the turning points fall between vertices,
     // and the two vertices beside each lie on the line to round-off.
     let cycle = Cycle::paper(5.5, 0.0).unwrap();
-    let (one, i1, e1, _) = stepped(cycle, 201, false);
+    let (one, i1, e1, _) = stepped(cycle.clone(), 201, false);
     let (run, i2, e2, steps2) = stepped(cycle, 201, true);
     assert_eq!((one.state(), one.cycles, i1), (run.state(), run.cycles, i2));
     same_events(&e1, &e2);
@@ -603,7 +603,7 @@ fn only_straight_runs_are_taken_at_once() {
     // An ellipse (phi = pi/2) has no two chords in line: one increment a
     // step, exactly as without straight runs.
     let cycle = Cycle::paper(5.5, 0.5 * PI).unwrap();
-    let (one, i1, e1, steps1) = stepped(cycle, 200, false);
+    let (one, i1, e1, steps1) = stepped(cycle.clone(), 200, false);
     let (run, i2, e2, steps2) = stepped(cycle, 200, true);
     assert_eq!((one.state(), one.cycles, i1), (run.state(), run.cycles, i2));
     let rel = (one.dissipation - run.dissipation).abs() / one.dissipation;

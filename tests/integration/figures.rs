@@ -165,13 +165,22 @@ fn fig5_slip_map_files() {
     check_plot_files(&dir, "fig5");
     let (header, rows) = read_csv(&dir.join("fig5.csv"));
     assert_eq!(header, ["omega_t", "theta", "direction"]);
-    assert_eq!(rows.len(), 200 * 64);
+    // One row per sub-segment: the 200 increments, split at events.
+    let text = std::fs::read_to_string(dir.join("fig5.csv")).unwrap();
+    let count: usize = text
+        .lines()
+        .find_map(|l| l.strip_prefix("# rows = "))
+        .expect("the header gives the rows")
+        .parse()
+        .unwrap();
+    assert!(count >= 200, "{count}");
+    assert_eq!(rows.len(), count * 64);
     assert!(rows
         .iter()
         .all(|r| ["-1", "0", "1"].contains(&r[2].as_str())));
     let (header, rows) = read_csv(&dir.join("fig5_load.csv"));
     assert_eq!(header, ["omega_t", "x", "y", "radial", "torque"]);
-    assert_eq!(rows.len(), 201);
+    assert_eq!(rows.len(), count + 1);
     // In phase, the cycle is a line through A = (pi, 3 pi / 4) starting there.
     let x0: f64 = rows[0][1].parse().unwrap();
     let y0: f64 = rows[0][2].parse().unwrap();
@@ -194,6 +203,13 @@ fn map_of(lambda: f64, phase: f64) -> shakedown::analysis::slip_map::SlipMap {
 fn holds(zone: (usize, usize), n: usize, theta: f64) -> bool {
     let j = ((theta.rem_euclid(2.0 * PI)) / (2.0 * PI) * n as f64).round() as usize % n;
     (j + n - zone.0) % n < zone.1
+}
+
+/// Whether node `j` of `n` lies within `tol` of `theta` round the circle.
+fn near(j: usize, n: usize, theta: f64, tol: f64) -> bool {
+    let t = 2.0 * PI * (j % n) as f64 / n as f64;
+    let d = (t - theta).rem_euclid(2.0 * PI);
+    d.min(2.0 * PI - d) <= tol
 }
 
 #[test]
@@ -239,7 +255,12 @@ fn fig7_point_c_one_zone_splits_travels_and_merges() {
     let formed = formed.expect("a slip zone forms after a slip-free interval");
     let merged = merged.expect("two slip zones merge");
     assert!(split, "the zone splits in two");
-    assert!(holds(formed, n, -0.75 * PI), "formed at {formed:?} of {n}");
+    // Where the first node starts to slip (the rows end at the exact event
+    // times, so the zone is caught as it forms, one node wide).
+    assert!(
+        (0..formed.1).any(|k| near(formed.0 + k, n, -0.75 * PI, PI / 8.0)),
+        "formed at {formed:?} of {n}"
+    );
     assert!(holds(merged, n, 0.25 * PI), "merged at {merged:?} of {n}");
 }
 

@@ -9,7 +9,7 @@ use shakedown::{Outcome, Status, Stepper};
 fn stepper(load_factor: f64, initial: &str, max_cycles: usize) -> Stepper {
     let params = CaseParams {
         load_factor,
-        initial: initial.into(),
+        initial: shakedown::Initial::parse(initial).unwrap(),
         nodes: 32,
         steps: 200,
         max_cycles,

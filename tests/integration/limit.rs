@@ -34,7 +34,7 @@ fn run_optimal(lambda: f64, phase: f64) -> Outcome {
     let params = CaseParams {
         load_factor: lambda,
         phase,
-        initial: "optimal".into(),
+        initial: shakedown::Initial::Optimal,
         nodes: NODES,
         steps: STEPS,
         ..CaseParams::default()

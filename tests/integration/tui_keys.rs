@@ -8,8 +8,8 @@ use ratatui::backend::TestBackend;
 use ratatui::Terminal;
 use shakedown::analysis::case::Case;
 use shakedown::stepping::{Phase, Status};
-use shakedown::tui::app::{App, Config, Goal, View};
-use shakedown::tui::keys::{bindings_for, event_for, Action, Mode, BINDINGS, MODES};
+use shakedown::tui::app::{App, Config, Confirm, Goal, View};
+use shakedown::tui::keys::{bindings_for, event_for, Action, Mode, MODES};
 use shakedown::tui::log::EventKind;
 use shakedown::tui::{default_params, ui};
 
@@ -68,6 +68,10 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
         app.advance(400);
         app.apply(Action::ToggleLog);
         assert_eq!(app.mode(), Mode::Log);
+    }
+    if mode == Mode::Tour {
+        app.start_tour();
+        assert_eq!(app.mode(), Mode::Tour);
     }
     let lambda = app.load_factor();
     let phase = app.phase();
@@ -358,15 +362,17 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
             std::fs::create_dir_all(&dir).unwrap();
             app.set_save_dir(&dir);
             handle(&mut app);
+            // It asks for the name, prefilled with the preset's.
+            let name = app.save_entry().unwrap_or_default().to_string();
+            assert!(
+                name.starts_with("sweep-") && name.ends_with(".csv"),
+                "{name}"
+            );
+            key(&mut app, KeyCode::Enter);
             let notice = app.notice().unwrap_or_default().to_string();
             assert!(notice.starts_with("saved"), "{notice}");
-            let name = std::fs::read_dir(&dir)
-                .unwrap()
-                .next()
-                .unwrap()
-                .unwrap()
-                .path();
-            let text = std::fs::read_to_string(&name).unwrap();
+            let path = dir.join(&name);
+            let text = std::fs::read_to_string(&path).unwrap();
             // sweep's writer: the metadata header, then the column line.
             assert!(text.starts_with('#'), "{text}");
             assert!(
@@ -374,11 +380,43 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
                     .any(|l| l == shakedown::analysis::sweep::CSV_HEADER),
                 "{text}"
             );
-            // A second save never replaces the file.
+            // A second save asks before it replaces the file; anything
+            // but `y` keeps it.
+            std::fs::write(&path, "mine").unwrap();
             handle(&mut app);
-            let notice = app.notice().unwrap_or_default().to_string();
-            assert!(notice.starts_with("not saved"), "{notice}");
-            assert_eq!(std::fs::read_to_string(&name).unwrap(), text);
+            key(&mut app, KeyCode::Enter);
+            assert_eq!(app.confirm(), Some(Confirm::Overwrite));
+            key(&mut app, KeyCode::Char('n'));
+            assert!(app.notice().unwrap_or_default().starts_with("not saved"));
+            assert_eq!(std::fs::read_to_string(&path).unwrap(), "mine");
+            handle(&mut app);
+            key(&mut app, KeyCode::Enter);
+            key(&mut app, KeyCode::Enter);
+            assert_eq!(
+                std::fs::read_to_string(&path).unwrap(),
+                "mine",
+                "Enter is no"
+            );
+            // `y` replaces it, header and all.
+            handle(&mut app);
+            key(&mut app, KeyCode::Enter);
+            key(&mut app, KeyCode::Char('y'));
+            assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
+            // Esc while typing saves nothing; another name is another file.
+            handle(&mut app);
+            key(&mut app, KeyCode::Esc);
+            assert!(app.save_entry().is_none());
+            handle(&mut app);
+            for _ in 0..4 {
+                key(&mut app, KeyCode::Backspace);
+            }
+            for c in "-b.csv".chars() {
+                key(&mut app, KeyCode::Char(c));
+            }
+            key(&mut app, KeyCode::Enter);
+            assert!(dir
+                .join(format!("{}-b.csv", &name[..name.len() - 4]))
+                .exists());
             let _ = std::fs::remove_dir_all(&dir);
         }
         Action::ToggleView => {
@@ -479,6 +517,34 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
             assert_eq!(r.initial(), &app.paths()[expected]);
             assert_eq!(r.done(), 0, "the map of another path starts empty");
             assert!(r.is_running());
+        }
+        Action::Tour => {
+            handle(&mut app);
+            assert_eq!(app.tour().map(|(k, _)| k), Some(0));
+            assert_eq!(app.mode(), Mode::Tour);
+            assert_eq!(app.view(), View::Stepping);
+        }
+        Action::TourNext => {
+            handle(&mut app);
+            assert_eq!(app.tour().map(|(k, _)| k), Some(1));
+            assert!(app.pauses_on_events(), "stop 2 pauses at advancing stick");
+            assert_eq!(app.case().initial.name(), "7,-7");
+        }
+        Action::TourPrevious => {
+            app.apply(Action::TourNext);
+            app.apply(Action::TourNext);
+            handle(&mut app);
+            assert_eq!(app.tour().map(|(k, _)| k), Some(1));
+            handle(&mut app);
+            handle(&mut app);
+            assert_eq!(app.tour().map(|(k, _)| k), Some(0), "stops at the first");
+        }
+        Action::TourLeave => {
+            let lambda = app.load_factor();
+            handle(&mut app);
+            assert!(app.tour().is_none());
+            assert_eq!(app.mode(), Mode::Stepping);
+            assert_eq!(app.load_factor(), lambda, "the case stays");
         }
         Action::RegimeRestart => {
             handle(&mut app);
@@ -695,6 +761,11 @@ fn the_table_covers_the_issue_keys() {
         (KeyCode::Char('c'), KeyModifiers::CONTROL, Action::Interrupt),
     ] {
         for mode in MODES {
+            // While the tour has the keys, Esc leaves it.
+            let action = match (mode, action) {
+                (Mode::Tour, Action::Back) => Action::TourLeave,
+                _ => action,
+            };
             assert_eq!(
                 shakedown::tui::keys::action_for(&KeyEvent::new(code, mods), mode),
                 Some(action)
@@ -831,7 +902,8 @@ fn events_are_logged_and_filtered_by_size() {
         .events
         .iter()
         .find(|e| e.kind == EventKind::AdvancingStick)
-        .expect("paused on an advancing stick");
+        .expect("paused on an advancing stick")
+        .clone();
     assert!(e.nodes >= 4, "{e:?}");
     // The run stopped at the event's load point, inside its increment: the
     // panels show the contact there, not at the end of the increment.
@@ -849,14 +921,26 @@ fn events_are_logged_and_filtered_by_size() {
     terminal.draw(|f| ui::draw(f, &app)).unwrap();
     let text = terminal.backend().to_string();
     assert!(text.contains("Event log"), "{text}");
-    assert!(
-        text.contains("sub-segment)") || text.contains("sub-segments)"),
-        "wrapped, not cut: {text}"
-    );
+    assert!(text.contains(&e.text), "wrapped, not cut: {text}");
+    // One counter under one word: the increment's sub-segments are said
+    // by the tractions panel only, never with another count in the log.
+    assert!(!e.text.contains("sub-"), "{}", e.text);
+    app.apply(Action::ToggleLog);
+    let mut terminal = Terminal::new(TestBackend::new(160, 48)).unwrap();
+    terminal.draw(|f| ui::draw(f, &app)).unwrap();
+    let text = terminal.backend().to_string();
+    let substeps = app.latest().unwrap().substeps;
+    let counted = if substeps == 1 {
+        "1 sub-segment".to_string()
+    } else {
+        format!("{substeps} sub-segments")
+    };
+    assert!(text.contains(&counted), "{counted} not in {text}");
+    assert_eq!(text.matches("sub-seg").count(), 1, "{text}");
 }
 
-/// Counts in the log's words agree with their nouns: "1 node",
-/// "1 sub-segment", "2 sub-segments".
+/// Counts in the log's words agree with their nouns: "1 node", "2 nodes";
+/// the sub-segments of the increment are not the event's to count.
 #[test]
 fn log_counts_are_singular_or_plural() {
     use shakedown::contact::SlipDirection;
@@ -877,14 +961,9 @@ fn log_counts_are_singular_or_plural() {
         load: LoadPoint::new(1.0, 0.4),
     };
     let text = |e| entries(&[e], at, &dirs)[0].text.clone();
-    assert_eq!(
-        text(stick(vec![3], 1)),
-        "advancing stick at 1 node (1 sub-segment)"
-    );
-    assert_eq!(
-        text(stick(vec![3, 4], 2)),
-        "advancing stick at 2 nodes (2 sub-segments)"
-    );
+    assert_eq!(text(stick(vec![3], 1)), "advancing stick at 1 node");
+    assert_eq!(text(stick(vec![3, 4], 0)), "advancing stick at 2 nodes");
+    assert_eq!(text(stick(vec![3, 4], 2)), "advancing stick at 2 nodes");
 }
 
 #[test]
@@ -922,7 +1001,7 @@ fn no_key_sequence_panics() {
     let mut app = app();
     let mut terminal = Terminal::new(TestBackend::new(80, 24)).unwrap();
     for round in 0..3 {
-        for binding in BINDINGS {
+        for binding in shakedown::tui::keys::bindings() {
             if matches!(
                 binding.action,
                 Action::Quit | Action::Interrupt | Action::ToSteady
@@ -944,7 +1023,7 @@ fn a_run_that_ends_refuses_to_step_and_says_why() {
     // Beyond the gross-slip limit the run ends in the first cycle.
     let mut params = default_params();
     params.load_factor = 9.0;
-    params.initial = "OA".into();
+    params.initial = shakedown::Initial::Direct;
     let case = Case::from_params(&params).unwrap();
     let mut app = App::new(
         case,
@@ -1083,4 +1162,91 @@ fn assert_restarted_on_path(app: &App) {
     assert_eq!(app.increments(), 0);
     let notice = app.notice().unwrap_or_default();
     assert!(notice.starts_with("path "), "notice: {notice}");
+}
+
+/// The tour from `T`: `n` and `N` walk its stops; a compare stop runs its
+/// first case to the steady state, pins it and runs the second; the last
+/// stop is the regime map; `Esc` gives every key its usual meaning back.
+#[test]
+fn the_tour_walks_its_stops_and_hands_over() {
+    use shakedown::analysis::case::CaseParams;
+    use shakedown::tui::app::tour::STOPS;
+    let params = CaseParams {
+        nodes: 32,
+        steps: 100,
+        ..default_params()
+    };
+    let case = Case::from_params(&params).unwrap();
+    let mut app = App::with_sweep(case, Config::default(), Ok(common::tiny_sweep_source()));
+    app.set_regime_source(Ok(common::tiny_regime_source()));
+    key(&mut app, KeyCode::Char('T'));
+    assert_eq!(app.mode(), Mode::Tour);
+    assert_eq!(app.tour().map(|(k, _)| k), Some(0));
+    // While the tour has the keys, `n` is the next stop, not a step.
+    key(&mut app, KeyCode::Char('n'));
+    key(&mut app, KeyCode::Char('n'));
+    assert_eq!(app.tour().map(|(k, _)| k), Some(2));
+    assert_eq!(app.case().initial.name(), "OA");
+    assert_eq!(app.goal(), Some(Goal::Steady));
+    wait_until(&mut app, |a| a.pinned().is_some());
+    let pinned = app.pinned().unwrap().clone();
+    assert_eq!(pinned.path, "OA");
+    assert_ne!(pinned.state, "unclassified", "pinned at its steady state");
+    assert_eq!(app.case().initial.name(), "7,-7");
+    assert_eq!(app.goal(), Some(Goal::Steady), "the second runs to its own");
+    // `N` goes back, and leaves no pin behind.
+    key(&mut app, KeyCode::Char('N'));
+    assert_eq!(app.tour().map(|(k, _)| k), Some(1));
+    assert!(app.pinned().is_none());
+    for _ in 1..STOPS.len() {
+        key(&mut app, KeyCode::Char('n'));
+    }
+    assert_eq!(app.tour().map(|(k, _)| k), Some(STOPS.len() - 1));
+    assert_eq!(app.view(), View::Regime);
+    key(&mut app, KeyCode::Char('n'));
+    assert_eq!(
+        app.tour().map(|(k, _)| k),
+        Some(STOPS.len() - 1),
+        "no stop after the last"
+    );
+    // Esc: the map is the user's, with its own keys.
+    key(&mut app, KeyCode::Esc);
+    assert!(app.tour().is_none());
+    assert_eq!(app.mode(), Mode::Regime);
+    key(&mut app, KeyCode::Esc);
+    assert_eq!(app.mode(), Mode::Stepping);
+    let before = app.increments();
+    key(&mut app, KeyCode::Char('n'));
+    app.settle();
+    assert_eq!(app.increments(), before + 1, "n steps again");
+}
+
+/// `s` shows its progress on the status line: the cycle, the change of
+/// `W` the stopping rule watches, and (once it falls) a gauge and the
+/// time left.
+#[test]
+fn the_steady_goal_shows_its_progress() {
+    use shakedown::analysis::case::CaseParams;
+    let params = CaseParams {
+        nodes: 32,
+        steps: 100,
+        ..default_params()
+    };
+    let case = Case::from_params(&params).unwrap();
+    let mut app = App::with_sweep(case, Config::default(), Ok(common::tiny_sweep_source()));
+    app.apply(Action::ToSteady);
+    wait_until(&mut app, |a| a.cycles().len() >= 4 || a.goal().is_none());
+    assert_eq!(app.goal(), Some(Goal::Steady), "settled in under 4 cycles");
+    let p = app.steady_progress().expect("progress while s runs");
+    assert!(p.cycles >= 4);
+    assert!(p.change.is_some());
+    assert_eq!(p.tolerance, 1e-4);
+    let mut terminal = Terminal::new(TestBackend::new(120, 36)).unwrap();
+    terminal.draw(|f| ui::draw(f, &app)).unwrap();
+    let text = terminal.backend().to_string();
+    assert!(text.contains("» steady"), "{text}");
+    assert!(text.contains("dW/W"), "{text}");
+    if p.left.is_some() {
+        assert!(text.contains("left"), "{text}");
+    }
 }

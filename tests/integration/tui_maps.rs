@@ -359,7 +359,7 @@ fn custom_path_points_on_the_load_plane() {
     ];
     let app_with = |config: Config| {
         let mut params = default_params();
-        params.initial = "OA".into();
+        params.initial = shakedown::Initial::Direct;
         let mut case = Case::from_params(&params).unwrap();
         case.initial = Initial::custom(points.clone()).unwrap();
         let center = case.cycle.center();

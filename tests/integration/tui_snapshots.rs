@@ -104,7 +104,7 @@ fn synthetic(i: usize, n: usize) -> Record {
             load: at.load,
             nodes: stuck.len(),
             theta: Some((theta(10), theta(14))),
-            text: "advancing stick at 5 nodes (3 sub-increments)".into(),
+            text: "advancing stick at 5 nodes".into(),
         });
     }
     if i.is_multiple_of(50) {
@@ -264,6 +264,13 @@ fn pinned_run_is_drawn_against_the_current_one() {
     app.apply(Action::Pin);
     let text = screen(&app, 100, 30).backend().to_string();
     assert!(text.contains("pinned lambda 6.00"), "{text}");
+    // Compare reads: a legend names both runs with their states, W goes
+    // on a log axis, and both g curves are named.
+    assert!(text.contains("o live"), "{text}");
+    assert!(text.contains("x pinned"), "{text}");
+    assert!(text.contains("unclassified"), "{text}");
+    assert!(text.contains("W log"), "{text}");
+    assert!(text.contains("· pinned 7,-7"), "{text}");
     insta::assert_snapshot!(text);
 }
 
@@ -359,6 +366,7 @@ fn every_mode_lists_every_key_at_80x24() {
                 app.apply(Action::ToggleLog);
             }
             Mode::Stepping => {}
+            Mode::Tour => app.start_tour(),
         }
         assert_eq!(app.mode(), mode);
         app.apply(Action::Help);
@@ -504,4 +512,143 @@ fn sweep_view_draws_at_any_size_and_without_colour() {
             assert_eq!(cell.fg, Color::Reset);
         }
     }
+}
+
+/// The tour at stop `stop` (0-based), in the synthetic state: the stop's
+/// case is opened, then fed the synthetic records instead of the solver's.
+fn tour_app(stop: usize) -> App {
+    let mut app = app(true);
+    app.start_tour();
+    for _ in 0..stop {
+        app.apply(Action::TourNext);
+    }
+    let nodes = app.case().disc.nodes();
+    for i in 0..INCREMENTS {
+        app.feed(synthetic(i, nodes));
+    }
+    app
+}
+
+#[test]
+fn tour_caption_80x24() {
+    let app = tour_app(0);
+    let text = screen(&app, 80, 24).backend().to_string();
+    assert!(text.contains("Tour 1/8: the stick diamond"), "{text}");
+    assert!(text.contains("n next"), "{text}");
+    assert!(text.contains("Esc take over"), "{text}");
+    insta::assert_snapshot!(text);
+}
+
+#[test]
+fn tour_second_stop_120x36() {
+    let app = tour_app(1);
+    let text = screen(&app, 120, 36).backend().to_string();
+    assert!(
+        text.contains("Tour 2/8: advancing stick on a transient that leaves it"),
+        "{text}"
+    );
+    assert!(
+        text.contains("e:on"),
+        "it pauses at advancing stick: {text}"
+    );
+    insta::assert_snapshot!(text);
+}
+
+/// Every stop's caption is on screen whole at 100x30 (nothing cut), and
+/// its title names the stop.
+#[test]
+fn every_tour_stop_shows_its_caption() {
+    use shakedown::tui::app::tour::STOPS;
+    let mut app = app(true);
+    app.start_tour();
+    for (k, stop) in STOPS.iter().enumerate() {
+        let text = screen(&app, 100, 30).backend().to_string();
+        let title = format!("Tour {}/{}: {}", k + 1, STOPS.len(), stop.title);
+        assert!(text.contains(&title), "{title} not in {text}");
+        // The caption's last word is on screen: it was not cut.
+        let last = stop.caption.split_whitespace().last().unwrap();
+        let last = last.replace("lambda_1", "λ₁").replace("lambda_2", "λ₂");
+        assert!(
+            text.contains(last.trim_end_matches('.')),
+            "{last} not in {text}"
+        );
+        app.apply(Action::TourNext);
+    }
+}
+
+/// A sweep of the paper's 25 transients at two `lambda`s, every run
+/// injected: the table at the cursor is longer than the panel.
+fn long_sweep_app() -> App {
+    use shakedown::analysis::case::CaseParams;
+    use shakedown::analysis::sweep::{Axis, SweepLists, SweepSpec};
+    use shakedown::model::path::Initial;
+    let params = CaseParams {
+        nodes: 32,
+        steps: 100,
+        ..CaseParams::default()
+    };
+    let small = Case::from_params(&params).unwrap();
+    let lists = SweepLists {
+        load_factors: vec![5.0, 6.0],
+        phases: vec![0.0],
+        initials: Initial::paper_set(),
+    };
+    let source = shakedown::tui::sweep::SweepSource {
+        name: "long".into(),
+        spec: SweepSpec::over(&small, &lists).unwrap(),
+        axis: Axis::Lambda,
+    };
+    let rows = common::fake_rows(&source);
+    let case = Case::from_params(&default_params()).unwrap();
+    let mut app = App::with_sweep(case, config(true), Ok(source));
+    let sweep = app.sweep_mut().unwrap();
+    for row in rows {
+        sweep.insert(row);
+    }
+    app.show_view(View::Sweep);
+    app
+}
+
+/// The table of transients at the cursor scrolls with the selection: the
+/// selected `7,-7` (20th of 25) is on screen at 80x24 and at 120x36, and
+/// so is the first row again after Home-like moves back up.
+#[test]
+fn sweep_table_scrolls_with_the_selection() {
+    let mut app = long_sweep_app();
+    for _ in 0..19 {
+        app.apply(Action::SweepNextRun);
+    }
+    for (w, h) in [(80, 24), (120, 36)] {
+        let text = screen(&app, w, h).backend().to_string();
+        assert!(text.contains(">7,-7"), "{w}x{h}: {text}");
+        assert!(text.contains("of 25):"), "{w}x{h}: {text}");
+    }
+    insta::assert_snapshot!(screen(&app, 80, 24).backend());
+    for _ in 0..19 {
+        app.apply(Action::SweepPrevRun);
+    }
+    let text = screen(&app, 80, 24).backend().to_string();
+    assert!(text.contains(">OA"), "{text}");
+    assert!(text.contains("(1-"), "{text}");
+}
+
+/// `s` in the sweep view asks for the file name, and `overwrite? y/N`
+/// when it exists: both on the status line.
+#[test]
+fn sweep_save_asks_on_the_status_line() {
+    let dir = std::env::temp_dir().join(format!("shakedown-ask-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut app = sweep_app(true);
+    app.set_save_dir(&dir);
+    std::fs::write(dir.join("sweep-tiny.csv"), "mine").unwrap();
+    app.apply(Action::SweepSave);
+    let text = screen(&app, 80, 24).backend().to_string();
+    assert!(text.contains("save as: sweep-tiny.csv_"), "{text}");
+    app.handle_key(crossterm::event::KeyEvent::from(
+        crossterm::event::KeyCode::Enter,
+    ));
+    let text = screen(&app, 120, 36).backend().to_string();
+    assert!(text.contains("exists: overwrite? y/N"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -197,7 +197,7 @@ impl Setup {
         }
         Self {
             material: *contact.material(),
-            cycle: *cycle,
+            cycle: cycle.clone(),
             nodes: contact.nodes(),
             steps,
             elastic,

@@ -25,9 +25,9 @@ fn a_shared_setup_is_taken_only_where_it_fits() {
     let others = [
         (contact(0.1, 64), Cycle::paper(5.5, 0.0).unwrap(), 200),
         (contact(0.1, 64), Cycle::paper(5.0, 0.3).unwrap(), 200),
-        (contact(0.2, 64), cycle, 200),
-        (contact(0.1, 32), cycle, 200),
-        (contact(0.1, 64), cycle, 400),
+        (contact(0.2, 64), cycle.clone(), 200),
+        (contact(0.1, 32), cycle.clone(), 200),
+        (contact(0.1, 64), cycle.clone(), 400),
     ];
     for (c, cycle, steps) in &others {
         let search = SafeStateSearch::sharing(shared(), c, cycle, *steps);

@@ -288,11 +288,24 @@ impl Stepper {
             Verdict::Shakedown(ShakedownProof::SafeState(_)) => (0.0, 0.0),
             _ => (last.dissipation, last.rotation),
         };
+        // Cyclic slip and ratchetting carry the levels their cycles approach.
+        let (level, steady_rotation) = match verdict {
+            Verdict::CyclicSlip | Verdict::Ratchetting { .. } => {
+                let state = last.classify();
+                (
+                    crate::stepping::steady::dissipation_level(&self.history),
+                    crate::stepping::steady::steady_rotation(&self.history, state),
+                )
+            }
+            _ => (None, None),
+        };
         let outcome = Outcome {
             verdict,
             dissipation,
             cycles: self.history.len(),
             rotation_per_cycle,
+            level,
+            steady_rotation,
         };
         report.events.push(Event::SteadyStateReached(outcome));
         self.status = Status::Steady(outcome);

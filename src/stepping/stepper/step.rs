@@ -347,6 +347,8 @@ impl Stepper {
             dissipation: last.map_or(0.0, |r| r.dissipation),
             cycles: last.map_or(0, |r| r.cycle),
             rotation_per_cycle: last.map_or(0.0, |r| r.rotation),
+            level: None,
+            steady_rotation: None,
         };
         report.events.push(event);
         report.events.push(Event::SteadyStateReached(outcome));

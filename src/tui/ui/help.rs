@@ -93,6 +93,7 @@ impl Widget for Help<'_> {
             Mode::Sweep => " Keys: sweep view ",
             Mode::Log => " Keys: event log ",
             Mode::Regime => " Keys: regime map ",
+            Mode::Tour => " Keys: guided tour ",
         };
         // The mouse wheel is no key, but says what it does here too.
         let wheel = match self.mode {
@@ -100,6 +101,7 @@ impl Widget for Help<'_> {
             Mode::Sweep => " wheel: transients · ? or Esc closes ",
             Mode::Log => " wheel: the log · ? or Esc closes ",
             Mode::Regime => " wheel: phi rows · ? or Esc closes ",
+            Mode::Tour => " ? closes · Esc leaves the tour ",
         };
         let foot = super::first_fitting(
             vec![

@@ -29,13 +29,26 @@ impl ratatui::widgets::Widget for LoadPlane<'_> {
 }
 
 fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Theme) {
-    let cycle = app.case().cycle;
-    let cycle_points: Vec<(f64, f64)> = (0..=CYCLE_SAMPLES)
-        .map(|i| {
-            let p = cycle.at(TWO_PI * i as f64 / CYCLE_SAMPLES as f64);
-            (p.x(), p.y())
-        })
-        .collect();
+    let cycle = app.case().cycle.clone();
+    let cycle_points: Vec<(f64, f64)> = match cycle.as_polyline() {
+        // A polyline is drawn through its own vertices, closed, so that no
+        // corner is cut (model.md section 5.4).
+        Some(polyline) => {
+            let m = polyline.vertices().len();
+            (0..=m)
+                .map(|k| {
+                    let p = cycle.at(TWO_PI * (k % m) as f64 / m as f64);
+                    (p.x(), p.y())
+                })
+                .collect()
+        }
+        None => (0..=CYCLE_SAMPLES)
+            .map(|i| {
+                let p = cycle.at(TWO_PI * i as f64 / CYCLE_SAMPLES as f64);
+                (p.x(), p.y())
+            })
+            .collect(),
+    };
     let segments: Vec<(f64, f64, f64, f64)> = app
         .transient()
         .iter()

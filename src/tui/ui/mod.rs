@@ -10,6 +10,7 @@ mod slip;
 mod slip_map;
 mod status;
 mod sweep_view;
+mod tour;
 mod tractions;
 
 use ratatui::buffer::Buffer;
@@ -45,6 +46,17 @@ fn draw_screen(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         too_small(frame, area, theme);
         return;
     }
+    // The tour's caption sits at the foot; the view draws above it.
+    let area = match app.tour() {
+        Some((index, stop)) => {
+            let height = tour::caption_height(stop, area.width);
+            let [view, caption] =
+                Layout::vertical([Constraint::Fill(1), Constraint::Length(height)]).areas(area);
+            frame.render_widget(tour::Caption { index, stop, theme }, caption);
+            view
+        }
+        None => area,
+    };
     if app.view() == View::Sweep {
         sweep_view::render(frame, area, app, theme);
     } else if app.view() == View::Regime {
@@ -106,6 +118,8 @@ pub fn asciify(buf: &mut Buffer) {
             '±' => "+",
             '«' | '»' => ">",
             '▶' => ">",
+            '█' => "#",
+            '░' => "-",
             '‖' => "|",
             '↑' => "^",
             '↓' => "v",
@@ -185,7 +199,12 @@ impl Areas {
         let status_height = 4;
         let [body, status] =
             Layout::vertical([Constraint::Fill(1), Constraint::Length(status_height)]).areas(area);
-        let top_height = (body.height * 4).div_ceil(7).max(11);
+        // At least 11 rows for the load plane, unless the bottom row of
+        // panels would keep fewer than 7 (a tour's caption takes room).
+        let top_height = (body.height * 4)
+            .div_ceil(7)
+            .max(11)
+            .min(body.height.saturating_sub(7));
         let [top, bottom] =
             Layout::vertical([Constraint::Length(top_height), Constraint::Fill(1)]).areas(body);
         let plane_width = (top.height * 5 / 2).clamp(24, top.width * 2 / 5);

@@ -375,6 +375,7 @@ fn render_status(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             (r.done(), r.total()),
             (r.is_running(), r.started()),
             ("computing in the background", "stopped (r computes it)"),
+            r.time_left(),
         ));
     }
     let hint = if area.width >= 110 {

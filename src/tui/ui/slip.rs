@@ -76,10 +76,10 @@ impl Widget for Slip<'_> {
         let mut datasets = Vec::new();
         if !pinned.is_empty() {
             datasets.push(
+                // Dots, not a line: the two curves differ in monochrome.
                 Dataset::default()
                     .data(&pinned)
-                    .marker(line)
-                    .graph_type(GraphType::Line)
+                    .marker(glyph(theme.sym("·", ".")))
                     .style(theme.dim()),
             );
         }
@@ -105,46 +105,74 @@ impl Widget for Slip<'_> {
                 .marker(glyph(STUCK_GLYPH))
                 .style(theme.newly_stuck()),
         );
-        let bottom = if stuck.is_empty() {
-            Line::from(vec![
-                Span::styled(theme.sym(" rotation ḡ = ", " rotation = "), theme.label()),
-                Span::styled(format!("{} ", format_sci(record.rotation)), theme.value()),
-            ])
-        } else {
-            // The largest change a stuck node locked in.
-            let change = record
-                .newly_stuck
-                .iter()
-                .filter_map(|&j| {
-                    let b = detail.slip_before.as_ref()?.get(j)?;
-                    Some(f64::from(detail.slip[j] - b).abs())
-                })
-                .fold(0.0, f64::max);
-            let change = format!("{} ", format_sci(change));
-            super::first_fitting(
-                vec![
-                    Line::from(vec![
-                        Span::styled(
-                            format!(" {STUCK_GLYPH} locked in, dg up to "),
-                            theme.newly_stuck(),
+        let rotation = [
+            Span::styled(theme.sym(" rotation ḡ = ", " rotation = "), theme.label()),
+            Span::styled(format!("{} ", format_sci(record.rotation)), theme.value()),
+        ];
+        let bottom = match app.pinned().filter(|_| !pinned.is_empty()) {
+            // Compare: both curves named, the live one first.
+            Some(p) if stuck.is_empty() => {
+                let names = vec![
+                    Span::styled(
+                        theme.sym(" ━ live ", " - live "),
+                        theme.fg(Color::LightYellow),
+                    ),
+                    Span::styled(
+                        format!("{} pinned {} ", theme.sym("·", "."), p.path),
+                        theme.label(),
+                    ),
+                ];
+                super::first_fitting(
+                    vec![
+                        Line::from(
+                            names
+                                .iter()
+                                .cloned()
+                                .chain(rotation.clone())
+                                .collect::<Vec<_>>(),
                         ),
-                        Span::styled(change.clone(), theme.value()),
-                        Span::styled("(grey: before) ", theme.label()),
-                    ]),
-                    Line::from(vec![
-                        Span::styled(
-                            format!(" {STUCK_GLYPH} locked in, dg up to "),
-                            theme.newly_stuck(),
-                        ),
-                        Span::styled(change.clone(), theme.value()),
-                    ]),
-                    Line::from(vec![
-                        Span::styled(format!(" {STUCK_GLYPH} dg up to "), theme.newly_stuck()),
-                        Span::styled(change, theme.value()),
-                    ]),
-                ],
-                area.width.saturating_sub(2) as usize,
-            )
+                        Line::from(names),
+                    ],
+                    area.width.saturating_sub(2) as usize,
+                )
+            }
+            _ if stuck.is_empty() => Line::from(rotation.to_vec()),
+            _ => {
+                // The largest change a stuck node locked in.
+                let change = record
+                    .newly_stuck
+                    .iter()
+                    .filter_map(|&j| {
+                        let b = detail.slip_before.as_ref()?.get(j)?;
+                        Some(f64::from(detail.slip[j] - b).abs())
+                    })
+                    .fold(0.0, f64::max);
+                let change = format!("{} ", format_sci(change));
+                super::first_fitting(
+                    vec![
+                        Line::from(vec![
+                            Span::styled(
+                                format!(" {STUCK_GLYPH} locked in, dg up to "),
+                                theme.newly_stuck(),
+                            ),
+                            Span::styled(change.clone(), theme.value()),
+                            Span::styled("(grey: before) ", theme.label()),
+                        ]),
+                        Line::from(vec![
+                            Span::styled(
+                                format!(" {STUCK_GLYPH} locked in, dg up to "),
+                                theme.newly_stuck(),
+                            ),
+                            Span::styled(change.clone(), theme.value()),
+                        ]),
+                        Line::from(vec![
+                            Span::styled(format!(" {STUCK_GLYPH} dg up to "), theme.newly_stuck()),
+                            Span::styled(change, theme.value()),
+                        ]),
+                    ],
+                    area.width.saturating_sub(2) as usize,
+                )
+            }
         };
         let chart = Chart::new(datasets)
             .block(theme.panel(title).title_bottom(bottom))

@@ -146,7 +146,35 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
     let line2 = Line::from(super::fit_spans(line2.spans, width));
 
     let mode = match (app.goal(), app.is_running()) {
-        (Some(Goal::Steady), _) => "» steady".to_string(),
+        (Some(Goal::Steady), _) => match app.steady_progress() {
+            // k of about n cycles, and the change of W the rule watches.
+            Some(p) => {
+                let mut text = format!("» steady: cycle {}", p.cycles);
+                if let Some(k) = p.cycles_left {
+                    text = format!(
+                        "» steady {} cycle {}/~{}",
+                        super::sweep_view::gauge(p.cycles, p.cycles + k, 8),
+                        p.cycles,
+                        p.cycles + k
+                    );
+                }
+                if let Some(c) = p.change {
+                    text.push_str(&format!(
+                        ", dW/W {} (to {})",
+                        format_sci(c),
+                        format_sci(p.tolerance)
+                    ));
+                }
+                if let Some(t) = p.left {
+                    text.push_str(&format!(
+                        ", about {} left",
+                        super::sweep_view::format_duration(t)
+                    ));
+                }
+                text
+            }
+            None => "» steady".to_string(),
+        },
         (Some(Goal::CycleEnd(_)), _) => "» cycle end".to_string(),
         (Some(Goal::TransientEnd), _) => "» transient end".to_string(),
         (None, true) => format!("▶ {}/frame", app.speed()),
@@ -179,6 +207,7 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
             match c {
                 Confirm::Quit(_) => "the sweep map is not saved: quit anyway? y/n",
                 Confirm::RestartSweep => "discard the sweep map and rerun? y/n",
+                Confirm::Overwrite => "the file exists: overwrite? y/N",
             },
             theme.error(),
         ));
@@ -208,7 +237,8 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
             _ => app.last_event().map(str::to_string),
         }
         .unwrap_or_else(|| "–".into());
-        let room = width.saturating_sub(spans.iter().map(Span::width).sum());
+        // One column spare: a line that reaches the edge reads as cut.
+        let room = width.saturating_sub(spans.iter().map(Span::width).sum::<usize>() + 1);
         let notice = app.notice().unwrap_or_default();
         let (n, e) = (notice.chars().count(), event.chars().count());
         let sep_width = sep().width();

@@ -367,9 +367,7 @@ fn render_details(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
         lines.push(Line::from(vec![
             label("lambda"),
             value(format_load_factor(job.load_factor)),
-        ]));
-        lines.push(Line::from(vec![
-            label("phi"),
+            Span::styled("  phi ", theme.label()),
             value(format_phase(job.phase)),
         ]));
         lines.push(Line::from(vec![
@@ -392,9 +390,7 @@ fn render_details(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
                 lines.push(Line::from(vec![
                     label("W"),
                     value(format_sci(s.dissipation)),
-                ]));
-                lines.push(Line::from(vec![
-                    label("cycles"),
+                    Span::styled("  cycles ", theme.label()),
                     value(s.cycles.to_string()),
                 ]));
             }
@@ -407,9 +403,29 @@ fn render_details(frame: &mut Frame, area: Rect, sweep: &Sweep, theme: &Theme) {
             }
         }
         // W of every transient at this x: the spread the paper reads.
+        // The table scrolls with the selection: it is never off screen.
         let x = sweep.x_of(job);
-        lines.push(Line::from(Span::styled(" at this x:", theme.label())));
-        for other in sweep.jobs().iter().filter(|j| sweep.x_of(j) == x) {
+        let column: Vec<_> = sweep.jobs().iter().filter(|j| sweep.x_of(j) == x).collect();
+        let rows = usize::from(area.height.saturating_sub(2))
+            .saturating_sub(lines.len() + 1)
+            .max(1);
+        let at = column
+            .iter()
+            .position(|j| j.index == job.index)
+            .unwrap_or(0);
+        let first = at
+            .saturating_sub(rows / 2)
+            .min(column.len().saturating_sub(rows));
+        let last = (first + rows).min(column.len());
+        lines.push(Line::from(Span::styled(
+            if column.len() > rows {
+                format!(" at this x ({}-{last} of {}):", first + 1, column.len())
+            } else {
+                " at this x:".to_string()
+            },
+            theme.label(),
+        )));
+        for other in &column[first..last] {
             let row = sweep.rows().find(|r| r.job.index == other.index);
             let (glyph, w) = match row.map(|r| (&r.outcome, r.state())) {
                 None => (" ", "…".to_string()),
@@ -448,6 +464,7 @@ fn render_status(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             (s.done(), s.total()),
             (s.is_running(), s.started()),
             ("running in the background", "stopped"),
+            s.time_left(),
         ));
     }
     let used: usize = line1.iter().map(Span::width).sum();
@@ -465,9 +482,10 @@ fn render_status(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     render_status_lines(frame, area, app, theme, line1, hint);
 }
 
-/// What a background computation has done: `join`, its `name`, `done` of
-/// `total` runs and its state: `running` (the first of `words`), done,
-/// stopped (the second) or not started.
+/// What a background computation has done: `join`, its `name`, a gauge
+/// with `done` of `total` runs and, while it runs, about how long the rest
+/// will take (`left`); else its state: done, stopped (the second of
+/// `words`) or not started.
 pub(super) fn progress_spans(
     theme: &Theme,
     join: &str,
@@ -475,10 +493,17 @@ pub(super) fn progress_spans(
     (done, total): (usize, usize),
     (running, started): (bool, bool),
     words: (&str, &str),
+    left: Option<std::time::Duration>,
 ) -> Vec<Span<'static>> {
     let label = |s: String| Span::styled(s, theme.label());
     let state = if running {
-        Span::styled(words.0.to_string(), theme.fg(Color::LightGreen))
+        Span::styled(
+            match left {
+                Some(t) => format!("about {} left", format_duration(t)),
+                None => words.0.to_string(),
+            },
+            theme.fg(Color::LightGreen),
+        )
     } else if done == total {
         Span::styled("done", theme.value())
     } else if started {
@@ -486,12 +511,38 @@ pub(super) fn progress_spans(
     } else {
         Span::styled("not started", theme.alert())
     };
-    vec![
+    let mut spans = vec![
         label(join.to_string()),
         Span::styled(name, theme.value()),
-        label(format!(", {done}/{total} runs, ")),
-        state,
-    ]
+        label(", ".to_string()),
+    ];
+    if running {
+        spans.push(Span::styled(
+            gauge(done, total, 10),
+            theme.fg(Color::LightGreen),
+        ));
+        spans.push(label(" ".to_string()));
+    }
+    spans.push(label(format!("{done}/{total} runs, ")));
+    spans.push(state);
+    spans
+}
+
+/// A bar of `width` cells, filled in proportion to `done` of `total`.
+pub fn gauge(done: usize, total: usize, width: usize) -> String {
+    let filled = (done * width).checked_div(total).unwrap_or(0).min(width);
+    format!("{}{}", "█".repeat(filled), "░".repeat(width - filled))
+}
+
+/// `45 s`, `3 min 20 s`, `1 h 5 min`: a time left, to the second that
+/// matters.
+pub fn format_duration(t: std::time::Duration) -> String {
+    let s = t.as_secs();
+    match s {
+        0..=59 => format!("{s} s"),
+        60..=3599 => format!("{} min {} s", s / 60, s % 60),
+        _ => format!("{} h {} min", s / 3600, (s % 3600) / 60),
+    }
 }
 
 /// The three status lines of the sweep view and its regime map: `line1`
@@ -514,10 +565,25 @@ pub(super) fn render_status_lines(
             " discard this map and rerun the sweep? y/n",
             theme.error(),
         )),
-        None => Line::from(Span::styled(
-            format!(" {}", app.notice().unwrap_or("")),
-            theme.alert(),
+        Some(crate::tui::app::Confirm::Overwrite) => Line::from(Span::styled(
+            format!(
+                " {} exists: overwrite? y/N",
+                app.save_path()
+                    .map_or(String::new(), |p| p.display().to_string())
+            ),
+            theme.error(),
         )),
+        None => match app.save_entry() {
+            Some(name) => Line::from(vec![
+                Span::styled(" save as: ", theme.label()),
+                Span::styled(format!("{name}_"), theme.value()),
+                Span::styled("  (Enter saves, Esc cancels)", theme.label()),
+            ]),
+            None => Line::from(Span::styled(
+                format!(" {}", app.notice().unwrap_or("")),
+                theme.alert(),
+            )),
+        },
     };
     let line3 = Line::from(Span::styled(hint.to_string(), theme.label()));
     // Each line cut with an ellipsis where it does not fit.

@@ -100,10 +100,10 @@ impl Widget for Tractions<'_> {
                     format!(
                         " {STUCK_GLYPH} just stuck: {}, {} ",
                         plural(k, "node"),
-                        plural(record.substeps, "sub-increment")
+                        plural(record.substeps, "sub-segment")
                     )
                 } else {
-                    format!(" {STUCK_GLYPH} {k} stuck, {} sub-incr ", record.substeps)
+                    format!(" {STUCK_GLYPH} {k} stuck, {} sub-seg ", record.substeps)
                 },
                 theme.newly_stuck(),
             ))

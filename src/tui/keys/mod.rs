@@ -1,10 +1,17 @@
-//! The one table of key bindings. Dispatch and the help overlay both read
-//! [`BINDINGS`], so the help can never list a key that does nothing or miss
+//! The key tables, one per view. Dispatch and the help overlay both read
+//! [`TABLES`], so the help can never list a key that does nothing or miss
 //! one that does something. Each row says which view it works in, so the
 //! same key (an arrow) can mean one thing in the stepping view and another
 //! in the sweep view, and the help of each view lists only its own keys.
 
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+
+mod global;
+mod log;
+mod regime;
+mod stepping;
+mod sweep;
+mod tour;
 
 pub use super::app::View;
 
@@ -154,6 +161,14 @@ pub enum Action {
     RegimeNextPath,
     /// Regime map `r`: compute the map again.
     RegimeRestart,
+    /// `T`: the guided tour, from its first stop.
+    Tour,
+    /// Tour `n`: the next stop.
+    TourNext,
+    /// Tour `N`: the previous stop.
+    TourPrevious,
+    /// Tour Esc: leave the tour; the case on screen is the user's.
+    TourLeave,
 }
 
 /// Which key table applies: a view, or the event log over the stepping
@@ -168,16 +183,26 @@ pub enum Mode {
     Log,
     /// The regime map's keys, in the sweep view.
     Regime,
+    /// The guided tour's keys, over whichever view its stop shows.
+    Tour,
 }
 
 /// All the modes, for the help and the tests.
-pub const MODES: [Mode; 4] = [Mode::Stepping, Mode::Log, Mode::Sweep, Mode::Regime];
+pub const MODES: [Mode; 5] = [
+    Mode::Stepping,
+    Mode::Log,
+    Mode::Sweep,
+    Mode::Regime,
+    Mode::Tour,
+];
 
 /// The modes a binding works in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Scope {
-    /// Every mode.
+    /// Every mode, the tour's too.
     All,
+    /// Every view, but not while the tour has the keys.
+    Views,
     /// The stepping view only.
     Stepping,
     /// The stepping view, and the event log over it.
@@ -188,6 +213,8 @@ pub enum Scope {
     Log,
     /// The regime map only.
     Regime,
+    /// The guided tour only.
+    Tour,
 }
 
 impl Scope {
@@ -196,6 +223,11 @@ impl Scope {
         matches!(
             (self, mode),
             (Scope::All, _)
+                | (
+                    Scope::Views,
+                    Mode::Stepping | Mode::Log | Mode::Sweep | Mode::Regime
+                )
+                | (Scope::Tour, Mode::Tour)
                 | (Scope::Stepping, Mode::Stepping)
                 | (Scope::SteppingAndLog, Mode::Stepping | Mode::Log)
                 | (Scope::Sweep, Mode::Sweep)
@@ -261,499 +293,38 @@ pub struct Binding {
     pub scope: Scope,
 }
 
-/// Every key the explorer knows, in the order the help shows them.
-pub const BINDINGS: &[Binding] = &[
-    Binding {
-        keys: &[key(KeyCode::Left)],
-        label: "←",
-        action: Action::LoadFactorDown,
-        help: "lambda - 0.05 (restarts)",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[key(KeyCode::Right)],
-        label: "→",
-        action: Action::LoadFactorUp,
-        help: "lambda + 0.05 (restarts)",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[shifted(KeyCode::Left)],
-        label: "Shift-←",
-        action: Action::LoadFactorDownBig,
-        help: "lambda - 0.5 (restarts)",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[shifted(KeyCode::Right)],
-        label: "Shift-→",
-        action: Action::LoadFactorUpBig,
-        help: "lambda + 0.5 (restarts)",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[key(KeyCode::Down)],
-        label: "↓",
-        action: Action::PhaseDown,
-        help: "phi - pi/24 (restarts)",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[key(KeyCode::Up)],
-        label: "↑",
-        action: Action::PhaseUp,
-        help: "phi + pi/24 (restarts)",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('[')],
-        label: "[",
-        action: Action::PreviousPath,
-        help: "previous initial path",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch(']')],
-        label: "]",
-        action: Action::NextPath,
-        help: "next initial path",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch(':')],
-        label: ":",
-        action: Action::Entry,
-        help: "type lambda = 5.13, phi, path",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch(' ')],
-        label: "Space",
-        action: Action::RunPause,
-        help: "run or pause",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('n')],
-        label: "n",
-        action: Action::StepOne,
-        help: "one increment",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('c')],
-        label: "c",
-        action: Action::ToCycleEnd,
-        help: "to the end of the cycle",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('s')],
-        label: "s",
-        action: Action::ToSteady,
-        help: "to the steady state",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('r')],
-        label: "r",
-        action: Action::Reset,
-        help: "rerun from the start",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('+'), ch('=')],
-        label: "+ =",
-        action: Action::Faster,
-        help: "faster (x2 incr per frame)",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('-')],
-        label: "-",
-        action: Action::Slower,
-        help: "slower (/2 incr per frame)",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch(','), ch('h')],
-        label: ", h",
-        action: Action::Back1,
-        help: "back one increment (history)",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('.'), ch('l')],
-        label: ". l",
-        action: Action::Forward1,
-        help: "forward one increment",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('<'), key(KeyCode::PageUp)],
-        label: "< PgUp",
-        action: Action::BackCycle,
-        help: "back one cycle",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('>'), key(KeyCode::PageDown)],
-        label: "> PgDn",
-        action: Action::ForwardCycle,
-        help: "forward one cycle",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[key(KeyCode::Home)],
-        label: "Home",
-        action: Action::Oldest,
-        help: "oldest increment kept",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[key(KeyCode::End)],
-        label: "End",
-        action: Action::Live,
-        help: "live: the newest increment",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('{')],
-        label: "{",
-        action: Action::PrevEvent,
-        help: "previous event of the kind",
-        scope: Scope::SteppingAndLog,
-    },
-    Binding {
-        keys: &[ch('}')],
-        label: "}",
-        action: Action::NextEvent,
-        help: "next event of the kind",
-        scope: Scope::SteppingAndLog,
-    },
-    Binding {
-        keys: &[ch('k')],
-        label: "k",
-        action: Action::EventKind,
-        help: "event kind (jumps, pause, log)",
-        scope: Scope::All,
-    },
-    Binding {
-        keys: &[ch('m')],
-        label: "m",
-        action: Action::MinNodes,
-        help: "advancing stick >= 1, 2, 4..",
-        scope: Scope::All,
-    },
-    Binding {
-        keys: &[ch('e')],
-        label: "e",
-        action: Action::PauseOnEvents,
-        help: "pause on events of the kind",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('L'), ch('E')],
-        label: "L E",
-        action: Action::ToggleLog,
-        help: "event log on/off",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('g')],
-        label: "g",
-        action: Action::ToggleRegime,
-        help: "regime map over (lambda, phi)",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[ch('p')],
-        label: "p",
-        action: Action::Pin,
-        help: "pin run to compare / unpin",
-        scope: Scope::Stepping,
-    },
-    Binding {
-        keys: &[key(KeyCode::Up)],
-        label: "↑",
-        action: Action::LogUp,
-        help: "previous event",
-        scope: Scope::Log,
-    },
-    Binding {
-        keys: &[key(KeyCode::Down), ch('j')],
-        label: "↓ j",
-        action: Action::LogDown,
-        help: "next event",
-        scope: Scope::Log,
-    },
-    Binding {
-        keys: &[key(KeyCode::PageUp)],
-        label: "PgUp",
-        action: Action::LogPageUp,
-        help: "ten events up",
-        scope: Scope::Log,
-    },
-    Binding {
-        keys: &[key(KeyCode::PageDown)],
-        label: "PgDn",
-        action: Action::LogPageDown,
-        help: "ten events down",
-        scope: Scope::Log,
-    },
-    Binding {
-        keys: &[key(KeyCode::Home)],
-        label: "Home",
-        action: Action::LogFirst,
-        help: "first event",
-        scope: Scope::Log,
-    },
-    Binding {
-        keys: &[key(KeyCode::End)],
-        label: "End",
-        action: Action::LogLast,
-        help: "last event",
-        scope: Scope::Log,
-    },
-    Binding {
-        keys: &[key(KeyCode::Enter)],
-        label: "Enter",
-        action: Action::LogGo,
-        help: "show that instant",
-        scope: Scope::Log,
-    },
-    Binding {
-        keys: &[ch('L'), ch('E')],
-        label: "L E",
-        action: Action::ToggleLog,
-        help: "close the event log",
-        scope: Scope::Log,
-    },
-    Binding {
-        keys: &[key(KeyCode::Left)],
-        label: "←",
-        action: Action::SweepPrevX,
-        help: "previous lambda (or phi)",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[key(KeyCode::Right)],
-        label: "→",
-        action: Action::SweepNextX,
-        help: "next lambda (or phi)",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[key(KeyCode::PageDown)],
-        label: "PgDn",
-        action: Action::SweepPageDown,
-        help: "ten columns right (on)",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[key(KeyCode::PageUp)],
-        label: "PgUp",
-        action: Action::SweepPageUp,
-        help: "ten columns left (back)",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[key(KeyCode::Home)],
-        label: "Home",
-        action: Action::SweepFirst,
-        help: "first column",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[key(KeyCode::End)],
-        label: "End",
-        action: Action::SweepLast,
-        help: "last column",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[key(KeyCode::Up)],
-        label: "↑",
-        action: Action::SweepPrevRun,
-        help: "transient above in the table",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[key(KeyCode::Down)],
-        label: "↓",
-        action: Action::SweepNextRun,
-        help: "transient below in the table",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[key(KeyCode::Enter)],
-        label: "Enter",
-        action: Action::OpenRun,
-        help: "open the run under the cursor",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[ch('w')],
-        label: "w",
-        action: Action::SweepLogW,
-        help: "W axis: log / linear",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[ch('S'), ch('s')],
-        label: "s",
-        action: Action::SweepSave,
-        help: "save the map as sweep's CSV",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[ch('r')],
-        label: "r",
-        action: Action::RestartSweep,
-        help: "rerun the sweep (asks first)",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[ch('g')],
-        label: "g",
-        action: Action::ToggleRegime,
-        help: "regime map over (lambda, phi)",
-        scope: Scope::Sweep,
-    },
-    Binding {
-        keys: &[key(KeyCode::Left)],
-        label: "←",
-        action: Action::RegimePrevLambda,
-        help: "previous lambda",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[key(KeyCode::Right)],
-        label: "→",
-        action: Action::RegimeNextLambda,
-        help: "next lambda",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[key(KeyCode::Down)],
-        label: "↓",
-        action: Action::RegimePhaseDown,
-        help: "smaller phi",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[key(KeyCode::Up)],
-        label: "↑",
-        action: Action::RegimePhaseUp,
-        help: "larger phi",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[key(KeyCode::PageDown)],
-        label: "PgDn",
-        action: Action::RegimePageDown,
-        help: "ten lambdas right (on)",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[key(KeyCode::PageUp)],
-        label: "PgUp",
-        action: Action::RegimePageUp,
-        help: "ten lambdas left (back)",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[key(KeyCode::Home)],
-        label: "Home",
-        action: Action::RegimeFirst,
-        help: "first lambda",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[key(KeyCode::End)],
-        label: "End",
-        action: Action::RegimeLast,
-        help: "last lambda",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[key(KeyCode::Enter)],
-        label: "Enter",
-        action: Action::RegimeOpen,
-        help: "open this (lambda, phi) case",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[ch('[')],
-        label: "[",
-        action: Action::RegimePrevPath,
-        help: "map of the previous path",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[ch(']')],
-        label: "]",
-        action: Action::RegimeNextPath,
-        help: "map of the next path",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[ch('r')],
-        label: "r",
-        action: Action::RegimeRestart,
-        help: "compute the map again",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[ch('g')],
-        label: "g",
-        action: Action::ToggleRegime,
-        help: "back to the view before",
-        scope: Scope::Regime,
-    },
-    Binding {
-        keys: &[ch('v'), key(KeyCode::Tab)],
-        label: "v Tab",
-        action: Action::ToggleView,
-        help: "stepping view / sweep view",
-        scope: Scope::All,
-    },
-    Binding {
-        keys: &[ch('?')],
-        label: "?",
-        action: Action::Help,
-        help: "this help on/off",
-        scope: Scope::All,
-    },
-    Binding {
-        keys: &[key(KeyCode::Esc)],
-        label: "Esc",
-        action: Action::Back,
-        help: "close, back, or to live",
-        scope: Scope::All,
-    },
-    Binding {
-        keys: &[ctrl('z')],
-        label: "^Z",
-        action: Action::Suspend,
-        help: "suspend (fg resumes)",
-        scope: Scope::All,
-    },
-    Binding {
-        keys: &[ch('q')],
-        label: "q",
-        action: Action::Quit,
-        help: "quit (asks if a map is lost)",
-        scope: Scope::All,
-    },
-    Binding {
-        keys: &[ctrl('c')],
-        label: "^C",
-        action: Action::Interrupt,
-        help: "quit with status 130",
-        scope: Scope::All,
-    },
+/// Every key the explorer knows, view by view, in the order the help
+/// shows them.
+pub const TABLES: &[&[Binding]] = &[
+    stepping::STEPPING,
+    log::LOG,
+    sweep::SWEEP,
+    regime::REGIME,
+    tour::TOUR,
+    global::GLOBAL,
 ];
+
+/// Every binding of every view, in table order.
+pub fn bindings() -> impl Iterator<Item = &'static Binding> {
+    TABLES.iter().flat_map(|t| t.iter())
+}
+
+/// A row of a key table.
+const fn bind(
+    keys: &'static [Key],
+    label: &'static str,
+    action: Action,
+    help: &'static str,
+    scope: Scope,
+) -> Binding {
+    Binding {
+        keys,
+        label,
+        action,
+        help,
+        scope,
+    }
+}
 
 impl Key {
     fn matches(&self, event: &KeyEvent) -> bool {
@@ -830,12 +401,20 @@ pub fn footer(mode: Mode) -> &'static [FooterItem] {
             ("?", "all keys", &[A::Help]),
             ("q", "quit", &[A::Quit]),
         ],
+        Mode::Tour => &[
+            ("n", "next stop", &[A::TourNext]),
+            ("N", "back", &[A::TourPrevious]),
+            ("Space", "run", &[A::RunPause]),
+            ("Esc", "take over", &[A::TourLeave]),
+            ("?", "all keys", &[A::Help]),
+            ("q", "quit", &[A::Quit]),
+        ],
     }
 }
 
 /// The bindings of `mode`, in table order: what the help lists.
 pub fn bindings_for(mode: Mode) -> impl Iterator<Item = &'static Binding> {
-    BINDINGS.iter().filter(move |b| b.scope.includes(mode))
+    bindings().filter(move |b| b.scope.includes(mode))
 }
 
 /// The action bound to a key press in `mode`, if any.
@@ -921,7 +500,7 @@ mod tests {
 
     #[test]
     fn help_texts_fit_two_columns_at_80() {
-        for b in BINDINGS {
+        for b in bindings() {
             assert!(b.help.chars().count() <= 30, "{}", b.help);
             assert!(b.label.chars().count() <= 7, "{}", b.label);
         }
