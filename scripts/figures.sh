@@ -35,7 +35,7 @@ rm -f "$out"/*.png "$out"/slide/*.png
 page=docs/figures.md
 marker='<!-- gallery: made by scripts/figures.sh, do not edit below -->'
 {
-    sed "/^$marker\$/q" "$page"
+    awk -v m="$marker" '{ print } $0 == m { exit }' "$page"
     for name in "${names[@]}"; do
         printf '\n## %s\n\n`shakedown figure %s --out DIR`\n\n' "$name" "$name"
         printf '![%s](figures/%s.svg)\n\n> %s\n' "$name" "$name" "$(cat "$out/$name.caption.txt")"

@@ -456,16 +456,16 @@ pub fn warn_if_slow(nodes: usize, steps: usize) {
     let (fast, slow) = expected_run_seconds(nodes, steps);
     let (lo, hi) = (fast.min(slow), fast.max(slow));
     let time = if hi < 2.0 * lo || hi < 0.5 {
-        readable_time(hi)
+        format!("{} of CPU per run", readable_time(hi))
     } else {
         format!(
-            "{} to {} (out of phase, ratchetting runs take longest)",
+            "{} to {} of CPU per run (out of phase, ratchetting runs take longest)",
             readable_time(lo),
             readable_time(hi).trim_start_matches("about ")
         )
     };
     errln!(
-        "warning: --nodes {nodes} --steps {steps} is above the interactive range (nodes <= {INTERACTIVE_NODES}, steps <= {INTERACTIVE_STEPS}): expect {time} of CPU per run"
+        "warning: --nodes {nodes} --steps {steps} is above the interactive range (nodes <= {INTERACTIVE_NODES}, steps <= {INTERACTIVE_STEPS}): expect {time}"
     );
 }
 

@@ -542,14 +542,30 @@ impl DissipationPlot<'_> {
         area: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
-        let pts: Vec<Drawn<'_>> = self
-            .drawn()
-            .into_iter()
-            .filter(|p| p.1 > 0.0 && p.1.is_finite())
-            .collect();
-        let wmax = pts.iter().map(|p| p.1).fold(0.0, f64::max);
+        let all = self.drawn();
+        let wmax = all
+            .iter()
+            .map(|p| p.1)
+            .filter(|w| w.is_finite())
+            .fold(0.0, f64::max);
         let floor = (wmax * 1e-8).max(1e-14);
-        let pts: Vec<Drawn<'_>> = pts.into_iter().filter(|p| p.1 >= floor).collect();
+        // A point the log axis cannot show (W = 0: shakedown, or below the
+        // floor) breaks its line there, so no line bridges the runs that
+        // do not slip.
+        let lines: Vec<Drawn<'_>> = all
+            .iter()
+            .cloned()
+            .map(|mut p| {
+                if p.1.is_finite() && p.1 < floor {
+                    p.1 = 0.0;
+                }
+                p
+            })
+            .collect();
+        let pts: Vec<Drawn<'_>> = all
+            .into_iter()
+            .filter(|p| p.1.is_finite() && p.1 >= floor)
+            .collect();
         let wmin = pts.iter().map(|p| p.1).fold(f64::MAX, f64::min);
         if pts.is_empty() {
             return Ok(());
@@ -561,7 +577,7 @@ impl DissipationPlot<'_> {
             decades(wmin, wmax),
             self.x_desc(),
         )?;
-        self.draw_lines(&mut chart, pen, &pts, true)?;
+        self.draw_lines(&mut chart, pen, &lines, true)?;
         self.draw_marks(&mut chart, pen, &pts)
     }
 

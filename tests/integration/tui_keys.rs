@@ -1220,33 +1220,3 @@ fn the_tour_walks_its_stops_and_hands_over() {
     app.settle();
     assert_eq!(app.increments(), before + 1, "n steps again");
 }
-
-/// `s` shows its progress on the status line: the cycle, the change of
-/// `W` the stopping rule watches, and (once it falls) a gauge and the
-/// time left.
-#[test]
-fn the_steady_goal_shows_its_progress() {
-    use shakedown::analysis::case::CaseParams;
-    let params = CaseParams {
-        nodes: 32,
-        steps: 100,
-        ..default_params()
-    };
-    let case = Case::from_params(&params).unwrap();
-    let mut app = App::with_sweep(case, Config::default(), Ok(common::tiny_sweep_source()));
-    app.apply(Action::ToSteady);
-    wait_until(&mut app, |a| a.cycles().len() >= 4 || a.goal().is_none());
-    assert_eq!(app.goal(), Some(Goal::Steady), "settled in under 4 cycles");
-    let p = app.steady_progress().expect("progress while s runs");
-    assert!(p.cycles >= 4);
-    assert!(p.change.is_some());
-    assert_eq!(p.tolerance, 1e-4);
-    let mut terminal = Terminal::new(TestBackend::new(120, 36)).unwrap();
-    terminal.draw(|f| ui::draw(f, &app)).unwrap();
-    let text = terminal.backend().to_string();
-    assert!(text.contains("» steady"), "{text}");
-    assert!(text.contains("dW/W"), "{text}");
-    if p.left.is_some() {
-        assert!(text.contains("left"), "{text}");
-    }
-}

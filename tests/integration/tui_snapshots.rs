@@ -652,3 +652,31 @@ fn sweep_save_asks_on_the_status_line() {
     assert!(text.contains("exists: overwrite? y/N"), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `s` shows its progress on the status line: the cycle, the change of
+/// `W` the stopping rule watches against its tolerance, a gauge of the
+/// cycles done out of about how many, and the time left. Fed synthetic
+/// cycles whose `W` falls as `1/k`, so the change of `W` falls too.
+#[test]
+fn the_steady_goal_shows_its_progress() {
+    let mut app = app(true);
+    app.apply(Action::ToSteady);
+    let nodes = app.case().disc.nodes();
+    for i in 0..1700 {
+        app.feed(synthetic(i, nodes));
+    }
+    let p = app.steady_progress().expect("progress while s runs");
+    assert_eq!(p.cycles, 4);
+    // W_k = 0.004 / k: the change from cycle 3 to 4 is 1/4 of W_3.
+    assert!((p.change.unwrap() - 0.25).abs() < 1e-12, "{p:?}");
+    assert_eq!(p.tolerance, 1e-4);
+    // Falling from 1/3 to 1/4: ln(1e-4 / 0.25) / ln(0.75) = 27.2, so 28
+    // cycles, and three more for the rule's three pairs.
+    assert_eq!(p.cycles_left, Some(31));
+    assert!(p.left.is_some());
+    let text = screen(&app, 120, 36).backend().to_string();
+    assert!(text.contains("» steady"), "{text}");
+    assert!(text.contains("cycle 4/~35"), "{text}");
+    assert!(text.contains("dW/W 2.50e-1 (to 1.00e-4)"), "{text}");
+    assert!(text.contains("left"), "{text}");
+}

@@ -585,7 +585,12 @@ pub(super) fn render_status_lines(
             )),
         },
     };
-    let line3 = Line::from(Span::styled(hint.to_string(), theme.label()));
+    // While the tour has the keys, its keys are the ones to show.
+    let line3 = if app.mode() == crate::tui::keys::Mode::Tour {
+        super::footer_line(app.mode(), usize::from(area.width), theme)
+    } else {
+        Line::from(Span::styled(hint.to_string(), theme.label()))
+    };
     // Each line cut with an ellipsis where it does not fit.
     let width = usize::from(area.width);
     let lines = [Line::from(line1), line2, line3]
