@@ -19,7 +19,7 @@ out=docs/figures
 mkdir -p "$out"
 cargo build --release --quiet
 bin=target/release/shakedown
-names=(fig3 fig4 fig5 fig6 fig7 fig8 fig9 regime)
+names=(fig3 fig4 fig5 fig6 fig7 fig8 fig9 regime design)
 for name in "${names[@]}"; do
     if [[ "${REDRAW:-0}" == 1 ]]; then
         "$bin" figure "$name" --from "$out/$name.csv" --out "$out" --force "$@"

@@ -208,11 +208,12 @@ fn readable(p: &CaseParams, s: &Outcome, history: &[f64]) -> String {
     if let Some(t) = s.trend() {
         let _ = writeln!(
             o,
-            "trend     W heading for {:.3e} +- {:.3e}  (changes shrink by {:.4} a cycle; W ~ k^-{:.2} over the last {} cycles)",
+            "trend     W heading for {:.3e} +- {:.3e}  (changes shrink by {:.4} a cycle; W ~ k^{:.2} over the last {} cycles)",
             t.limit,
             t.uncertainty,
             t.ratio,
-            t.exponent,
+            // `exponent` is the decay p of W ~ k^-p: a W that rises has p < 0.
+            -t.exponent,
             shakedown::stepping::verdict::WINDOW
         );
     }

@@ -113,6 +113,10 @@ impl Polyline {
         if (position - nearest).abs() <= 1e-9 {
             position = nearest;
         }
+        // The end of the period is its start: the first vertex itself.
+        if position >= m as f64 {
+            position -= m as f64;
+        }
         let k = (position.floor() as usize).min(m - 1);
         let r = position - k as f64;
         let next = if k + 1 == m { 0 } else { k + 1 };

@@ -132,6 +132,47 @@ mod tests {
         assert!(Cycle::paper(1.0, f64::NAN).is_err());
     }
 
+    /// Equal time per chord: at `steps` a multiple of the vertex count,
+    /// every vertex is a load point to the bit (not an ulp before it), and
+    /// between vertices the load is on the chord, linear in time.
+    #[test]
+    fn a_polyline_cycle_passes_its_vertices_at_equal_times() {
+        let square: Vec<LoadPoint> = [(1.0, -1.0), (1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0)]
+            .iter()
+            .map(|&(u, v)| LoadPoint::new(u, v))
+            .collect();
+        let polyline = Polyline::new("square", square.clone()).unwrap();
+        let center = LoadPoint::new(PI, 0.75 * PI);
+        let c = Cycle::polyline(center, 2.0, polyline).unwrap();
+        let at = |k: usize, steps: usize| c.at(2.0 * PI * k as f64 / steps as f64);
+        for steps in [4, 12, 400] {
+            for (k, v) in square.iter().enumerate() {
+                let want = LoadPoint::new(center.x() + 2.0 * v.x(), center.y() + 2.0 * v.y());
+                assert_eq!(at(k * steps / 4, steps), want, "{steps} {k}");
+            }
+        }
+        // A third of the way along the second chord, and round again.
+        let p = at(4, 12);
+        assert!((p.x() - (PI + 2.0 * (1.0 - 2.0 / 3.0))).abs() < 1e-12);
+        assert!((p.y() - (0.75 * PI + 2.0)).abs() < 1e-12);
+        assert_eq!(at(12, 12), c.start());
+        assert_eq!(c.check_steps(400), Ok(()));
+        assert_eq!(
+            c.check_steps(402),
+            Err(ParamError::StepsPerChord {
+                steps: 402,
+                vertices: 4
+            })
+        );
+        assert!(c.slope().is_nan() && c.phase().is_nan());
+        assert_eq!(
+            c.with_load_factor(3.0).unwrap().as_polyline(),
+            c.as_polyline()
+        );
+        assert!(Polyline::new("nan", vec![LoadPoint::new(f64::NAN, 0.0); 3]).is_err());
+        assert!(Polyline::new("far", vec![LoadPoint::new(2e3, 0.0); 3]).is_err());
+    }
+
     #[test]
     fn cycle_is_a_line_of_half_length_lambda_for_zero_phase() {
         let c = Cycle::paper(2.0, 0.0).unwrap();

@@ -10,7 +10,6 @@ mod report;
 pub mod safe_state;
 pub mod steady;
 mod stepper;
-mod straight;
 pub mod verdict;
 mod zones;
 

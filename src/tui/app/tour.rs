@@ -49,7 +49,7 @@ const HALF_PI: f64 = std::f64::consts::FRAC_PI_2;
 pub const STOPS: [Stop; 8] = [
     Stop {
         title: "the stick diamond",
-        caption: "From no slip, the interface sticks while the load stays in the diamond |x| + |y| <= 2 pi on the load plane (model.md 2.3): the direct path OA locks nothing in. At lambda = 3 the cycle leaves the diamond, slips in its first cycles and shakes down, as every history does below lambda_1 (7).",
+        caption: "From no slip, the interface sticks while the load stays in the diamond |x| + |y| <= 2 pi on the load plane (model.md 2.3): the direct path OA locks nothing in. At lambda = 3 the cycle leaves the diamond, slips in its first cycles and shakes down, as every history does below lambda_1 (model.md 7).",
         scene: Scene::Case {
             load_factor: 3.0,
             phase: 0.0,
