@@ -328,14 +328,11 @@ impl Drawing for DesignPlot<'_> {
         root: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
-        let key = self.key();
-        let (w, h) = root.dim_in_pixel();
-        let key_h = pen.px(key.height_pt(self.style, self.style.width_pt())) as u32;
-        let (plots, key_area) = root.split_vertically(h.saturating_sub(key_h));
-        key.draw(&key_area, pen)?;
+        let w = root.dim_in_pixel().0;
+        let plots = self.key().draw_below(root, self.style, pen)?;
         // One column: the panels one above the other.
         let (first, second) = if self.style == FigureStyle::Paper1Col {
-            plots.split_vertically(h.saturating_sub(key_h) / 2)
+            plots.split_vertically(plots.dim_in_pixel().1 / 2)
         } else {
             plots.split_horizontally(w / 2)
         };

@@ -321,11 +321,8 @@ impl Drawing for DissipationPlot<'_> {
         root: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
-        let key = self.key();
-        let (w, h) = root.dim_in_pixel();
-        let key_h = pen.px(key.height_pt(self.style, self.style.width_pt())) as u32;
-        let (plots, key_area) = root.split_vertically(h.saturating_sub(key_h));
-        key.draw(&key_area, pen)?;
+        let w = root.dim_in_pixel().0;
+        let plots = self.key().draw_below(root, self.style, pen)?;
         if !self.two_panels() {
             return self.linear(&plots, pen, None, false);
         }

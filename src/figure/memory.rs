@@ -115,11 +115,7 @@ impl Drawing for MemoryPlot<'_> {
         root: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
-        let key = self.key();
-        let h = root.dim_in_pixel().1;
-        let key_h = pen.px(key.height_pt(self.style, self.style.width_pt())) as u32;
-        let (root, key_area) = root.split_vertically(h.saturating_sub(key_h));
-        key.draw(&key_area, pen)?;
+        let root = self.key().draw_below(root, self.style, pen)?;
         let (x0, x1) = self.x_range();
         let (big_r, small_r) = self.series();
         let ymax = big_r

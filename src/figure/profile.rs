@@ -205,11 +205,7 @@ impl Drawing for ProfilePlot<'_> {
         root: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
-        let key = self.key();
-        let h = root.dim_in_pixel().1;
-        let key_h = pen.px(key.height_pt(self.style, self.style.width_pt())) as u32;
-        let (plots, key_area) = root.split_vertically(h.saturating_sub(key_h));
-        key.draw(&key_area, pen)?;
+        let plots = self.key().draw_below(root, self.style, pen)?;
         let panels = plots.split_evenly((3, 1));
         let p = self.profile;
         let bound: Vec<f64> = p.p_max.iter().map(|v| self.friction * v).collect();

@@ -183,11 +183,7 @@ impl Drawing for RegimePlot<'_> {
         let x1 = map.cell_bounds(nl - 1, 0).0 .1;
         let y0 = map.cell_bounds(0, 0).1 .0 / PI;
         let y1 = map.cell_bounds(0, np - 1).1 .1 / PI;
-        let key = self.key();
-        let h = root.dim_in_pixel().1;
-        let key_h = pen.px(key.height_pt(self.style, self.style.width_pt())) as u32;
-        let (plot, key_area) = root.split_vertically(h.saturating_sub(key_h));
-        key.draw(&key_area, pen)?;
+        let plot = self.key().draw_below(root, self.style, pen)?;
         let f = pen.text_pt();
         let mut chart = ChartBuilder::on(&plot)
             .margin(pen.px(0.8 * f))

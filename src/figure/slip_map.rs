@@ -314,11 +314,8 @@ impl Drawing for SlipMapPlot<'_> {
     ) -> Result<(), String> {
         let map = self.map;
         let origin = self.origin.resolve(map);
-        let key = self.key();
-        let (w, h) = root.dim_in_pixel();
-        let key_h = pen.px(key.height_pt(self.style, self.style.width_pt())) as u32;
-        let (root, key_area) = root.split_vertically(h.saturating_sub(key_h));
-        key.draw(&key_area, pen)?;
+        let w = root.dim_in_pixel().0;
+        let root = self.key().draw_below(root, self.style, pen)?;
         let (left, right) = root.split_horizontally(w * 3 / 5);
         let f = pen.text_pt();
         let t_desc = self.time_desc();

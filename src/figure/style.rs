@@ -502,6 +502,22 @@ impl Key {
         rows as f64 * pen.text_pt() * 1.45 + pen.text_pt() * 0.8
     }
 
+    /// Draw the key below the plots of a `style` figure on `root`, and
+    /// give back the area left above it for the plots: every figure puts
+    /// its key there, never over the data.
+    pub(crate) fn draw_below<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        style: FigureStyle,
+        pen: &Pen,
+    ) -> Result<DrawingArea<DB, Shift>, String> {
+        let h = root.dim_in_pixel().1;
+        let key_h = pen.px(self.height_pt(style, style.width_pt())) as u32;
+        let (plots, key_area) = root.split_vertically(h.saturating_sub(key_h));
+        self.draw(&key_area, pen)?;
+        Ok(plots)
+    }
+
     /// Draw the key in `area`, in columns, entries filled by rows.
     pub(crate) fn draw<DB: DrawingBackend>(
         &self,
