@@ -353,7 +353,11 @@ impl CaseArgs {
     pub fn case(&self, base: CaseParams) -> Result<(CaseParams, Case)> {
         let params = self.apply(base)?;
         let mut case = Case::from_params(&params).map_err(|e| case_error(e, |f| self.given(f)))?;
-        warn_if_slow(params.nodes, params.steps);
+        warn_if_slow(
+            params.nodes,
+            params.steps,
+            CostClass::of(&params, &[params.phase]),
+        );
         if let Some(text) = &self.initial_path {
             case.initial = custom_path(text, &case.material)?;
         } else if self.initial.is_none() {
@@ -446,15 +450,52 @@ fn readable_time(t: f64) -> String {
     }
 }
 
+/// Which of the measured cases of [`RUN_SECONDS`] the runs ahead are like:
+/// an in-phase cycle (a straight line, `phi = 0` or `pi`) costs like the
+/// fast case, an elliptical one like the slow case; a sweep over both, or
+/// a polyline cycle, gets the range between them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CostClass {
+    /// Every cycle is a straight line.
+    Line,
+    /// Every cycle is an ellipse.
+    Ellipse,
+    /// Some of each, or a polyline.
+    Mixed,
+}
+
+impl CostClass {
+    /// The class of the cycles of `params` over the phases `phases`.
+    pub fn of(params: &CaseParams, phases: &[f64]) -> Self {
+        if params.cycle.is_some() {
+            return Self::Mixed;
+        }
+        let line = |phi: f64| shakedown::analysis::limit::is_line(params.slope, phi);
+        match (
+            phases.iter().all(|&p| line(p)),
+            phases.iter().any(|&p| line(p)),
+        ) {
+            (true, _) => Self::Line,
+            (false, false) => Self::Ellipse,
+            _ => Self::Mixed,
+        }
+    }
+}
+
 /// Warn on stderr (one line) when `--nodes` or `--steps` is above the
-/// interactive range, with the expected time per run: a range, from the
-/// fast cases to the slow ones ([`expected_run_seconds`]).
-pub fn warn_if_slow(nodes: usize, steps: usize) {
+/// interactive range, with the expected time per run
+/// ([`expected_run_seconds`]): that of the measured case the runs are
+/// like ([`CostClass`]), or the range from the fast case to the slow one.
+pub fn warn_if_slow(nodes: usize, steps: usize, class: CostClass) {
     if nodes <= INTERACTIVE_NODES && steps <= INTERACTIVE_STEPS {
         return;
     }
     let (fast, slow) = expected_run_seconds(nodes, steps);
-    let (lo, hi) = (fast.min(slow), fast.max(slow));
+    let (lo, hi) = match class {
+        CostClass::Line => (fast, fast),
+        CostClass::Ellipse => (slow, slow),
+        CostClass::Mixed => (fast.min(slow), fast.max(slow)),
+    };
     let time = if hi < 2.0 * lo || hi < 0.5 {
         format!("{} of CPU per run", readable_time(hi))
     } else {

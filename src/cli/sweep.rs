@@ -153,7 +153,11 @@ pub fn spec(
     params.initial = Initial::Direct;
     let case = Case::from_params(&params).map_err(|e| case_error(e, given))?;
     // Only a valid case is worth a warning about its cost.
-    super::warn_if_slow(params.nodes, params.steps);
+    super::warn_if_slow(
+        params.nodes,
+        params.steps,
+        super::CostClass::of(&params, &phis),
+    );
     let lists = SweepLists {
         load_factors: lambdas,
         phases: phis,

@@ -65,3 +65,19 @@ fn unreadable_values_quote_the_range() {
         );
     }
 }
+
+/// The slow-grid warning quotes the measured case the runs are like: an
+/// in-phase cycle the fast one, an ellipse the slow one, and a sweep over
+/// both (or a polyline) the range between them.
+#[test]
+fn the_cost_class_follows_the_phases() {
+    use std::f64::consts::PI;
+    let p = CaseParams::default();
+    assert_eq!(CostClass::of(&p, &[0.0]), CostClass::Line);
+    assert_eq!(CostClass::of(&p, &[0.0, PI]), CostClass::Line);
+    assert_eq!(CostClass::of(&p, &[0.5 * PI]), CostClass::Ellipse);
+    assert_eq!(CostClass::of(&p, &[0.0, 0.5 * PI]), CostClass::Mixed);
+    // Each class's figure is that of its measured case at 4096 nodes.
+    let (fast, slow) = expected_run_seconds(4096, 400);
+    assert!((fast - 12.35).abs() < 1e-9 && (slow - 182.6).abs() < 1e-9);
+}

@@ -983,6 +983,21 @@ fn issue11_14g_large_discretisations_warn_with_a_time() {
         warning[0].contains("--nodes 4096") && warning[0].contains("expect about"),
         "{stderr}"
     );
+    // Out of phase the estimate is the slow case's, about 3 min (the issue's
+    // `run --lambda 6 --phi pi/2 --nodes 4096` took 183 s of CPU), not a
+    // range and not seconds.
+    let out = Command::new(env!("CARGO_BIN_EXE_shakedown"))
+        .args([
+            "sweep", "--nodes", "4096", "--lambda", "6", "--phi", "pi/2", "--shard", "2/2",
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("expect about 3 min of CPU per run"),
+        "{stderr}"
+    );
 }
 
 /// A flag a subcommand does not have points to that subcommand's help
