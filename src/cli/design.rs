@@ -467,9 +467,7 @@ fn prepare_out(args: &DesignArgs) -> Result<Option<OutputLock>> {
     let Some(out) = &args.out else {
         return Ok(None);
     };
-    if let Some(preset) = &args.case.preset {
-        refuse_input_as_output("--out", out, &[("--preset file", Path::new(preset))])?;
-    }
+    refuse_input_as_output("--out", out, &args.case.input_files())?;
     if !args.force && is_nonempty_file(out) {
         return Err(anyhow!(InputError(format!(
             "--out {}: it exists and is not empty: add --force to replace it",

@@ -150,6 +150,7 @@ pub fn events(args: EventsArgs) -> Result<ExitCode> {
         ),
         None => None,
     };
+    super::batch::refuse_input_as_output("--out", &args.out, &args.case.input_files())?;
     if is_nonempty_file(&args.out) && !args.force {
         return Err(anyhow!(InputError(format!(
             "--out {}: the file exists: add --force to replace it",

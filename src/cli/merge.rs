@@ -65,6 +65,7 @@ pub fn merge(mut args: MergeArgs) -> Result<ExitCode> {
                         .as_deref()
                         .map(|p| ("--preset file", Path::new(p))),
                 )
+                .chain(args.grid.model.input_files())
                 .collect();
             refuse_input_as_output("--out", out, &inputs)?;
             if !args.force && is_nonempty_file(out) {

@@ -113,6 +113,17 @@ pub struct ModelArgs {
     pub cycle: Option<String>,
 }
 
+impl ModelArgs {
+    /// The files these flags read (`--cycle`), as `(what, path)` for
+    /// [`batch::refuse_input_as_output`]: no output may be one of them.
+    pub fn input_files(&self) -> Vec<(&'static str, &std::path::Path)> {
+        self.cycle
+            .iter()
+            .map(|c| ("--cycle file", std::path::Path::new(c.as_str())))
+            .collect()
+    }
+}
+
 /// The polyline cycle of `--cycle FILE`; a bad file is bad input, on one
 /// line naming the flag.
 pub fn cycle_file(path: &str) -> Result<shakedown::model::Polyline> {
@@ -150,6 +161,20 @@ pub struct CaseArgs {
     pub initial_path: Option<String>,
     #[command(flatten)]
     pub model: ModelArgs,
+}
+
+impl CaseArgs {
+    /// The files a case reads (the preset file, `--cycle`): no output may
+    /// be one of them ([`batch::refuse_input_as_output`]).
+    pub fn input_files(&self) -> Vec<(&'static str, &std::path::Path)> {
+        let mut files: Vec<(&'static str, &std::path::Path)> = self
+            .preset
+            .iter()
+            .map(|p| ("--preset file", std::path::Path::new(p.as_str())))
+            .collect();
+        files.extend(self.model.input_files());
+        files
+    }
 }
 
 /// The custom transient of `--initial-path TEXT` for `material`; a bad

@@ -46,6 +46,11 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
         params.initial = case.initial.clone();
     }
     if let Some(out) = &args.profile {
+        let mut inputs = args.case.input_files();
+        if let Some(slip) = &args.initial_slip {
+            inputs.push(("--initial-slip file", std::path::Path::new(slip.as_str())));
+        }
+        super::batch::refuse_input_as_output("--profile", out, &inputs)?;
         if !args.force && shakedown::io::output::is_nonempty_file(out) {
             return Err(anyhow::anyhow!(super::InputError(format!(
                 "--profile {}: it exists and is not empty: add --force to replace it",

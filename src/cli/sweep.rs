@@ -241,6 +241,7 @@ pub fn sweep(mut args: SweepArgs) -> Result<ExitCode> {
         if let Some(slip) = &args.grid.lists.initial_slip {
             inputs.push(("--initial-slip file", Path::new(slip)));
         }
+        inputs.extend(args.grid.model.input_files());
         refuse_input_as_output("--out", out, &inputs)?;
     }
     let mut failed = 0;

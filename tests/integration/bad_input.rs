@@ -1502,3 +1502,40 @@ fn every_figure_reader_checks_its_file() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A `--cycle` file is an input like any other: no command may write its
+/// output over it, under its own name or a symlink's, even with `--force`.
+#[test]
+fn the_cycle_file_is_never_an_output() {
+    let dir = temp_dir("cycle-as-output");
+    let cycle = dir.join("c.csv");
+    let text = "u,v\n1,0\n0,1\n-1,0\n0,-1\n";
+    std::fs::write(&cycle, text).unwrap();
+    let link = dir.join("link.csv");
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink(&cycle, &link).unwrap();
+    let c = cycle.to_str().unwrap();
+    let grid = ["--lambda", "2", "--nodes", "32", "--steps", "400"];
+    for out in [c, link.to_str().unwrap()] {
+        let mut cases: Vec<Vec<&str>> = vec![
+            vec!["sweep", "--cycle", c, "--out", out, "--force"],
+            vec!["run", "--cycle", c, "--profile", out, "--force"],
+            vec!["events", "--cycle", c, "--out", out, "--force"],
+            vec!["limit", "--cycle", c, "--out", out, "--force"],
+        ];
+        for args in &mut cases {
+            let flag = if args[0] == "run" {
+                "--profile"
+            } else {
+                "--out"
+            };
+            if args[0] != "limit" {
+                args.extend(grid);
+            } else {
+                args.extend(&grid[2..4]);
+            }
+            rejected(args, &[flag, "--cycle file"]);
+            assert_eq!(std::fs::read_to_string(&cycle).unwrap(), text, "{args:?}");
+        }
+    }
+}

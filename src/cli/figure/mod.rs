@@ -249,6 +249,7 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
     if let Some(from) = &args.from {
         inputs.push(("--from file", from.as_path()));
     }
+    inputs.extend(args.model.input_files());
     for ext in SUFFIXES {
         let out = file(ext);
         let reads_it = ext == ".csv" && args.from.as_deref().is_some_and(|f| same_file(f, &out));
