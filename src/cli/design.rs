@@ -4,7 +4,7 @@
 //! down, per family and `K`.
 
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Mutex;
 
@@ -565,28 +565,7 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
     use shakedown::io::csv::Metadata;
     use shakedown::io::design::read_frontier_csv;
     use shakedown::io::parse::parse_point;
-    let dir = match (&args.out, &args.from) {
-        (Some(d), _) => d.clone(),
-        (None, Some(f)) => f
-            .parent()
-            .map(Path::to_path_buf)
-            .unwrap_or_else(|| PathBuf::from(".")),
-        (None, None) => {
-            return Err(anyhow!(InputError(
-                "figure: --out DIR is needed (or --from FILE.csv to redraw)".into()
-            )))
-        }
-    };
-    std::fs::create_dir_all(&dir).map_err(|e| {
-        anyhow!(InputError(format!(
-            "--out {}: cannot create it: {e}",
-            dir.display()
-        )))
-    })?;
-    let style: shakedown::figure::FigureStyle = args
-        .style
-        .parse()
-        .map_err(|e| anyhow!(InputError(format!("--style {}: {e}", args.style))))?;
+    let (dir, style) = super::figure::out_dir_and_style(args, "a design --frontier table")?;
     let (csv_path, svg, png, caption) = (
         dir.join("design.csv"),
         dir.join("design.svg"),

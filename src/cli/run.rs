@@ -242,43 +242,19 @@ fn readable(p: &CaseParams, s: &Outcome, history: &[f64]) -> String {
 /// beside the plot.
 pub fn profile_figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
     use anyhow::anyhow;
-    use shakedown::figure::{FigureStyle, ProfilePlot};
+    use shakedown::figure::ProfilePlot;
     use shakedown::io::output::is_nonempty_file;
-    use std::path::{Path, PathBuf};
+    use std::path::PathBuf;
 
     let bad = |m: String| anyhow!(super::InputError(m));
-    let style: FigureStyle = args
-        .style
-        .parse()
-        .map_err(|e| bad(format!("--style {}: {e}", args.style)))?;
-    let (out_dir, stem) = match (&args.out, &args.from) {
-        (Some(d), from) => (
-            d.clone(),
-            from.as_ref()
-                .and_then(|f| f.file_stem())
-                .map_or("profile".into(), |s| s.to_string_lossy().into_owned()),
-        ),
-        (None, Some(f)) => (
-            f.parent()
-                .filter(|p| !p.as_os_str().is_empty())
-                .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
-            f.file_stem()
-                .map_or("profile".into(), |s| s.to_string_lossy().into_owned()),
-        ),
-        (None, None) => {
-            return Err(bad(
-                "figure profile: --out DIR is needed (or --from FILE.csv to redraw a run --profile output)".into(),
-            ))
-        }
-    };
+    let stem = args
+        .from
+        .as_ref()
+        .and_then(|f| f.file_stem())
+        .map_or("profile".into(), |s| s.to_string_lossy().into_owned());
     shakedown::io::output::check_file_stem(&stem)
         .map_err(|why| bad(format!("--from: its name cannot be used: {why}")))?;
-    std::fs::create_dir_all(&out_dir).map_err(|e| {
-        bad(format!(
-            "--out {}: cannot create the directory: {e}",
-            out_dir.display()
-        ))
-    })?;
+    let (out_dir, style) = super::figure::out_dir_and_style(args, "a run --profile output")?;
     let file = |ext: &str| out_dir.join(format!("{stem}{ext}"));
     let outputs: Vec<PathBuf> = if args.from.is_some() {
         vec![file(".svg"), file(".png"), file(".caption.txt")]

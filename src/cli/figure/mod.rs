@@ -152,6 +152,30 @@ fn out_dir_of(args: &FigureArgs) -> Option<PathBuf> {
     }
 }
 
+/// The folder a figure is written to ([`out_dir_of`]), created, and its
+/// `--style`: what every kind of figure (the presets', `design`,
+/// `profile`) needs first. `redraw` names what `--from` reads, for the
+/// message when neither `--out` nor `--from` is given.
+pub(super) fn out_dir_and_style(args: &FigureArgs, redraw: &str) -> Result<(PathBuf, FigureStyle)> {
+    let style: FigureStyle = args
+        .style
+        .parse()
+        .map_err(|e| anyhow!(InputError(format!("--style {}: {e}", args.style))))?;
+    let Some(out_dir) = out_dir_of(args) else {
+        return Err(anyhow!(InputError(format!(
+            "figure {}: --out DIR is needed (or --from FILE.csv to redraw {redraw})",
+            args.name
+        ))));
+    };
+    std::fs::create_dir_all(&out_dir).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--out {}: cannot create the directory: {e}",
+            out_dir.display()
+        )))
+    })?;
+    Ok((out_dir, style))
+}
+
 /// Run `shakedown figure`. A refused or failed figure leaves no trace: an
 /// output folder it created is removed again when nothing was written
 /// into it.
@@ -197,21 +221,7 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
             }
         }
     }
-    let Some(out_dir) = out_dir_of(&args) else {
-        return Err(anyhow!(InputError(
-            "figure: --out DIR is needed (or --from FILE.csv to redraw)".into()
-        )));
-    };
-    std::fs::create_dir_all(&out_dir).map_err(|e| {
-        anyhow!(InputError(format!(
-            "--out {}: cannot create the directory: {e}",
-            out_dir.display()
-        )))
-    })?;
-    let style: FigureStyle = args
-        .style
-        .parse()
-        .map_err(|e| anyhow!(InputError(format!("--style {}: {e}", args.style))))?;
+    let (out_dir, style) = out_dir_and_style(&args, "its CSV")?;
     let origin: TimeOrigin = args.time_origin.parse().map_err(|e| {
         anyhow!(InputError(format!(
             "--time-origin {}: {e}: expected auto, 0 or an angle",
