@@ -10,9 +10,9 @@
 //! // The defaults are the paper's parameters at point B (lambda = 7, phi = 0)
 //! // with the direct transient OA.
 //! let case = Case::from_params(&CaseParams::default()).unwrap();
-//! assert_eq!(case.initial, Initial::Direct);
-//! assert_eq!(case.cycle.load_factor(), 7.0);
-//! assert_eq!(case.disc.nodes(), 128);
+//! assert_eq!(*case.initial(), Initial::Direct);
+//! assert_eq!(case.cycle().load_factor(), 7.0);
+//! assert_eq!(case.disc().nodes(), 128);
 //!
 //! // Validation reports the first bad parameter.
 //! let odd = CaseParams { nodes: 127, ..CaseParams::default() };
@@ -42,9 +42,6 @@ pub enum CaseError {
     /// The initial-path name does not parse.
     #[error(transparent)]
     Path(#[from] PathError),
-    /// The cycle cap `max_cycles` is outside `1..=100000` (the value given).
-    #[error("max-cycles = {0} is out of range: expected 1 to 100000")]
-    MaxCycles(usize),
     /// The initial path is `optimal` and the `lambda_2` linear programme
     /// that defines it failed (model.md sections 7.3 and 7.4).
     #[error("initial path 'optimal': {0}")]
@@ -87,7 +84,8 @@ pub struct CaseParams {
     /// Increments per cycle (16 to 100000). Default 400.
     pub steps: usize,
     /// Cycles run at most before the run is reported not converged
-    /// (1 to 100000; model.md section 6.1). Default 2000.
+    /// ([`crate::model::ranges::MAX_CYCLES`]; model.md section 6.1).
+    /// Default 2000.
     pub max_cycles: usize,
     /// Prove shakedown by a safe state before the first cycle without slip
     /// (model.md section 6.4). Default on; off, asymptotic shakedown is run
@@ -119,21 +117,18 @@ impl Default for CaseParams {
 
 /// A validated case: everything [`Case::stepper`] needs to start a run.
 ///
-/// With `optimal` requested, [`Case::initial`] already holds the resolved
-/// slip ([`Initial::Slip`]), never the unresolved [`Initial::Optimal`].
+/// Its parts are read through getters and changed only through setters
+/// that check what ties them together (a polyline cycle's vertex count
+/// divides the increments per cycle; the initial path is resolved).
+/// [`Case::initial`] never holds the unresolved [`Initial::Optimal`]: it
+/// is resolved to its slip ([`Initial::Slip`]) where it is given.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Case {
-    /// Friction and elastic constants.
-    pub material: Material,
-    /// The steady cycle (`lambda`, `phi`, `psi`, centre `A`).
-    pub cycle: Cycle,
-    /// Nodes and increments per cycle.
-    pub disc: Discretisation,
-    /// The initial path, resolved.
-    pub initial: Initial,
-    /// The stepper's options, with the cycle cap from
-    /// [`CaseParams::max_cycles`] and the rest at their defaults.
-    pub options: StepOptions,
+    material: Material,
+    cycle: Cycle,
+    disc: Discretisation,
+    initial: Initial,
+    options: StepOptions,
 }
 
 impl Case {
@@ -144,9 +139,8 @@ impl Case {
     /// # Errors
     ///
     /// [`CaseError::Param`] for an invalid material ([`Material::new`]),
-    /// cycle ([`Cycle::new`]) or discretisation ([`Discretisation::new`]);
-    /// [`CaseError::MaxCycles`] unless `1 <= max_cycles <= 100000`;
-    /// [`CaseError::Path`] for an initial path that does not parse; and
+    /// cycle ([`Cycle::new`]), discretisation ([`Discretisation::new`]) or
+    /// cycle cap (outside [`crate::model::ranges::MAX_CYCLES`]), and
     /// [`CaseError::Optimal`] when the `optimal` slip cannot be computed.
     /// They are checked in that order, and the first failure is returned.
     pub fn from_params(p: &CaseParams) -> Result<Case, CaseError> {
@@ -158,16 +152,11 @@ impl Case {
         };
         let disc = Discretisation::new(p.nodes, p.steps)?;
         cycle.check_steps(p.steps)?;
-        if !(1..=100_000).contains(&p.max_cycles) {
-            return Err(CaseError::MaxCycles(p.max_cycles));
-        }
-        let mut options = StepOptions::default();
-        options.convergence.max_cycles = p.max_cycles;
-        options.convergence.safe_state = p.safe_state;
-        let initial = match &p.initial {
-            Initial::Optimal => crate::analysis::limit::optimal_initial(&material, &cycle, &disc)?,
-            other => other.clone(),
-        };
+        let options = StepOptions::builder()
+            .max_cycles(p.max_cycles)
+            .safe_state(p.safe_state)
+            .build()?;
+        let initial = resolve(&p.initial, &material, &cycle, &disc)?;
         Ok(Case {
             material,
             cycle,
@@ -189,6 +178,75 @@ impl Case {
             self.options,
         )
     }
+
+    /// Friction and elastic constants.
+    pub fn material(&self) -> Material {
+        self.material
+    }
+    /// The steady cycle (`lambda`, `phi`, `psi`, centre `A`, or a polyline).
+    pub fn cycle(&self) -> &Cycle {
+        &self.cycle
+    }
+    /// Nodes and increments per cycle.
+    pub fn disc(&self) -> Discretisation {
+        self.disc
+    }
+    /// The initial path, resolved (never [`Initial::Optimal`]).
+    pub fn initial(&self) -> &Initial {
+        &self.initial
+    }
+    /// The stepper's options: the cycle cap and safe-state search of
+    /// [`CaseParams`], the rest at their defaults unless
+    /// [`Case::with_options`] set them.
+    pub fn options(&self) -> StepOptions {
+        self.options
+    }
+
+    /// Another cycle for this case (e.g. another `lambda`).
+    ///
+    /// # Errors
+    ///
+    /// [`CaseError::Param`] when a polyline cycle's vertex count does not
+    /// divide the increments per cycle ([`Cycle::check_steps`]); the case
+    /// is then unchanged.
+    pub fn set_cycle(&mut self, cycle: Cycle) -> Result<(), CaseError> {
+        cycle.check_steps(self.disc.steps_per_cycle())?;
+        self.cycle = cycle;
+        Ok(())
+    }
+
+    /// Another initial path for this case; [`Initial::Optimal`] is resolved
+    /// for this material, cycle and discretisation, as in
+    /// [`Case::from_params`].
+    ///
+    /// # Errors
+    ///
+    /// [`CaseError::Optimal`] when the `optimal` slip cannot be computed;
+    /// the case is then unchanged.
+    pub fn set_initial(&mut self, initial: Initial) -> Result<(), CaseError> {
+        self.initial = resolve(&initial, &self.material, &self.cycle, &self.disc)?;
+        Ok(())
+    }
+
+    /// This case with other stepper options (already checked by
+    /// [`StepOptions::builder`]).
+    pub fn with_options(self, options: StepOptions) -> Case {
+        Case { options, ..self }
+    }
+}
+
+/// `initial`, with [`Initial::Optimal`] computed for this material, cycle
+/// and discretisation.
+fn resolve(
+    initial: &Initial,
+    material: &Material,
+    cycle: &Cycle,
+    disc: &Discretisation,
+) -> Result<Initial, CaseError> {
+    Ok(match initial {
+        Initial::Optimal => crate::analysis::limit::optimal_initial(material, cycle, disc)?,
+        other => other.clone(),
+    })
 }
 
 impl Case {
@@ -308,7 +366,7 @@ impl CaseBuilder {
         self
     }
     /// Cycles run at most before the run is reported not converged
-    /// (1 to 100000).
+    /// ([`crate::model::ranges::MAX_CYCLES`]).
     pub fn max_cycles(mut self, max_cycles: usize) -> Self {
         self.params.max_cycles = max_cycles;
         self

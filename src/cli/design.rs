@@ -226,8 +226,8 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
     let shape = Shape::new(
         family,
         vertices,
-        Region::with_gross_gap(&case.material, gap),
-        case.cycle.center(),
+        Region::with_gross_gap(&case.material(), gap),
+        case.cycle().center(),
     )
     .map_err(design_error)?;
     let stop = ctrl_c()?;
@@ -320,7 +320,7 @@ fn to_json(
     json!({
         "initial_path": text,
         "state": rerun.state(),
-        "lambda": case.cycle.load_factor(),
+        "lambda": case.cycle().load_factor(),
         "dissipation": rerun.dissipation,
         "approach": rerun.approach(),
         "cycles": rerun.cycles,
@@ -388,12 +388,12 @@ fn readable(
     let _ = writeln!(
         o,
         "case      lambda = {}  phi = {}  A = ({:.4}, {:.4})  N = {}, {} increments/cycle",
-        case.cycle.load_factor(),
-        case.cycle.phase(),
-        case.cycle.center().x(),
-        case.cycle.center().y(),
-        case.disc.nodes(),
-        case.disc.steps_per_cycle()
+        case.cycle().load_factor(),
+        case.cycle().phase(),
+        case.cycle().center().x(),
+        case.cycle().center().y(),
+        case.disc().nodes(),
+        case.disc().steps_per_cycle()
     );
     let _ = writeln!(o, "path      O");
     for p in &best.path {
@@ -402,8 +402,8 @@ fn readable(
     let _ = writeln!(
         o,
         "       -> A = ({:.6}, {:.6})",
-        case.cycle.center().x(),
-        case.cycle.center().y()
+        case.cycle().center().x(),
+        case.cycle().center().y()
     );
     let how = match rerun.approach() {
         Approach::NoSlipCycle => "a whole cycle without slip".to_string(),
@@ -492,7 +492,7 @@ pub fn frontier_table(
     gap: f64,
     families: &[Family],
 ) -> Result<(String, bool)> {
-    let region = Region::with_gross_gap(&case.material, gap);
+    let region = Region::with_gross_gap(&case.material(), gap);
     let runner = Runner::new(case);
     let stop = ctrl_c()?;
     let b = bar(None);

@@ -251,10 +251,10 @@ pub fn flag_of(e: &CaseError) -> Option<&'static str> {
             "nodes" => "nodes",
             "steps" => "steps",
             "cycle" => "cycle",
+            "max-cycles" => "max-cycles",
             _ => return None,
         }),
         CaseError::Path(_) | CaseError::Optimal(_) => Some("initial"),
-        CaseError::MaxCycles(_) => Some("max-cycles"),
     }
 }
 
@@ -384,10 +384,10 @@ impl CaseArgs {
             CostClass::of(&params, &[params.phase]),
         );
         if let Some(text) = &self.initial_path {
-            case.initial = custom_path(text, &case.material)?;
+            case.set_initial(custom_path(text, &case.material())?)?;
         } else if self.initial.is_none() {
             if let Some(path) = self.preset()?.and_then(|p| p.initial_path) {
-                case.initial = path;
+                case.set_initial(path)?;
             }
         }
         Ok((params, case))

@@ -153,6 +153,25 @@ pub const MAX_CYCLES: CountRange = CountRange {
     expected: "1 to 100000",
 };
 
+/// Bisections of an increment whose active set does not settle (model.md
+/// section 3.3, robustness): each halves the increment, so the cost of a
+/// failing increment grows as `2^k`, and 20 already reaches a millionth of
+/// an increment.
+pub const FAILURE_BISECTIONS: CountRange = CountRange {
+    name: "failure-bisections",
+    min: 0,
+    max: 20,
+    even: false,
+    expected: "0 to 20",
+};
+/// The relative change of the cycle dissipation `W` below which a run has
+/// settled (model.md section 6.1; the paper's 0.01 % is `1e-4`).
+pub const TOLERANCE: RealRange = RealRange {
+    low_open: true,
+    high_open: true,
+    ..closed("tolerance", 0.0, 1.0, "0 < tolerance < 1")
+};
+
 /// The range in words of the parameter the command line spells `flag`.
 pub fn expected(flag: &str) -> Option<&'static str> {
     Some(match flag {
@@ -165,6 +184,8 @@ pub fn expected(flag: &str) -> Option<&'static str> {
         "nodes" => NODES.expected,
         "steps" => STEPS.expected,
         "max-cycles" => MAX_CYCLES.expected,
+        "failure-bisections" => FAILURE_BISECTIONS.expected,
+        "tolerance" => TOLERANCE.expected,
         _ => return None,
     })
 }

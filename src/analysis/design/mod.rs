@@ -296,7 +296,7 @@ impl Runner {
     pub fn new(case: &Case) -> Self {
         Self {
             case: case.clone(),
-            ops: operators(&case.disc),
+            ops: operators(&case.disc()),
         }
     }
 
@@ -311,7 +311,7 @@ impl Runner {
     ///
     /// [`DesignError::Param`] for a `lambda` outside `0..=1000`.
     pub fn cycle(&self, lambda: f64) -> Result<Cycle, DesignError> {
-        let c = &self.case.cycle;
+        let c = &self.case.cycle();
         Ok(Cycle::new(c.center(), lambda, c.slope(), c.phase())?)
     }
 
@@ -326,11 +326,11 @@ impl Runner {
         let c = &self.case;
         let mut s = Stepper::with_operators(
             Arc::clone(&self.ops),
-            c.material,
-            c.disc,
+            c.material(),
+            c.disc(),
             initial,
             cycle,
-            c.options,
+            c.options(),
         );
         Ok(s.run_to_steady()?)
     }
@@ -342,7 +342,7 @@ impl Runner {
     /// As [`Runner::run`], and [`DesignError::Path`] for a path outside the
     /// admissible region.
     pub fn run_path(&self, path: &[LoadPoint], lambda: f64) -> Result<Outcome, DesignError> {
-        let initial = Initial::custom_for(path.to_vec(), &self.case.material)?;
+        let initial = Initial::custom_for(path.to_vec(), &self.case.material())?;
         self.run(&initial, lambda)
     }
 }
@@ -681,11 +681,11 @@ pub const LAMBDA_TOL: f64 = 5e-4;
 pub fn references(runner: &Runner) -> Result<References, DesignError> {
     let c = runner.case();
     let limit = shakedown_limit(
-        &c.material,
-        c.cycle.center(),
-        c.cycle.slope(),
-        c.cycle.phase(),
-        &c.disc,
+        &c.material(),
+        c.cycle().center(),
+        c.cycle().slope(),
+        c.cycle().phase(),
+        &c.disc(),
         crate::analysis::limit::DEFAULT_SAMPLES,
     )?;
     let lambda_2 = limit.load_factor;
@@ -708,7 +708,7 @@ pub fn references(runner: &Runner) -> Result<References, DesignError> {
         lambda_1,
         best_of_25: best,
         best_name: set[best_index].name(),
-        best_turning: set[best_index].waypoints_to(c.cycle.center())[1],
+        best_turning: set[best_index].waypoints_to(c.cycle().center())[1],
         lambda_2,
     })
 }
@@ -735,7 +735,7 @@ pub fn frontier(
     row_done: &mut dyn FnMut(&FrontierRow),
 ) -> Result<Vec<FrontierRow>, DesignError> {
     let c = runner.case();
-    let center = c.cycle.center();
+    let center = c.cycle().center();
     let mut rows = Vec::new();
     let mut lo = refs.best_of_25;
     let mut best_params: Option<Vec<f64>> = None;
@@ -773,7 +773,7 @@ pub fn frontier(
             evaluations += found.evaluations;
             match found.best {
                 Some(b) if b.shakes_down() => {
-                    let initial = Initial::custom_for(b.path.clone(), &c.material)?;
+                    let initial = Initial::custom_for(b.path.clone(), &c.material())?;
                     lo = path_limit(runner, &initial, mid, hi, LAMBDA_TOL)?.unwrap_or(mid);
                     params = b.params;
                     path = b.path;

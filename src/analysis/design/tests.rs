@@ -8,8 +8,8 @@ fn shape(family: Family, k: usize) -> Shape {
     Shape::new(
         family,
         k,
-        Region::for_material(&case.material),
-        case.cycle.center(),
+        Region::for_material(&case.material()),
+        case.cycle().center(),
     )
     .unwrap()
 }
