@@ -24,7 +24,7 @@ pub struct LimitArgs {
     #[command(flatten)]
     pub case: CaseArgs,
     /// Load points on an elliptical cycle (phi != 0); a straight line uses its two ends.
-    #[arg(long, value_name = "M")]
+    #[arg(long, value_name = "M", value_parser = super::values::count(shakedown::model::ranges::SAMPLES))]
     pub samples: Option<String>,
     /// Write the optimal slip g(theta) here as CSV (nothing is written
     /// without it); `run` and `sweep` start from it with --initial-slip FILE.
@@ -89,7 +89,8 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
     let samples = match &args.samples {
         Some(t) => t.trim().parse::<usize>().map_err(|_| {
             anyhow!(InputError(format!(
-                "--samples {t}: not a whole number: expected 3 to 4096"
+                "--samples {t}: not a whole number: expected {}",
+                shakedown::model::ranges::SAMPLES.expected
             )))
         })?,
         None => DEFAULT_SAMPLES,

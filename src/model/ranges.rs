@@ -153,6 +153,15 @@ pub const MAX_CYCLES: CountRange = CountRange {
     expected: "1 to 100000",
 };
 
+/// Load points `M` of an elliptical cycle in the `lambda_2` linear
+/// programme (model.md section 7.3; a straight cycle uses its two ends).
+pub const SAMPLES: CountRange = CountRange {
+    name: "samples",
+    min: 3,
+    max: 4096,
+    even: false,
+    expected: "3 to 4096 points on the ellipse",
+};
 /// Bisections of an increment whose active set does not settle (model.md
 /// section 3.3, robustness): each halves the increment, so the cost of a
 /// failing increment grows as `2^k`, and 20 already reaches a millionth of
@@ -184,6 +193,7 @@ pub fn expected(flag: &str) -> Option<&'static str> {
         "nodes" => NODES.expected,
         "steps" => STEPS.expected,
         "max-cycles" => MAX_CYCLES.expected,
+        "samples" => SAMPLES.expected,
         "failure-bisections" => FAILURE_BISECTIONS.expected,
         "tolerance" => TOLERANCE.expected,
         _ => return None,
