@@ -62,6 +62,7 @@ fn each_flag_parser_accepts_its_range_and_refuses_just_beyond() {
         ("limit", "--nu", ranges::NU),
         ("tui", "--lambda", ranges::LAMBDA),
         ("design", "--phi", ranges::PHI),
+        ("design", "--gross-gap", ranges::GROSS_GAP),
     ];
     for (command, flag, range) in reals {
         let (inside, beyond) = real_ends(range);
@@ -120,6 +121,9 @@ fn each_flag_parser_accepts_its_range_and_refuses_just_beyond() {
         ("run", "--steps", ranges::STEPS),
         ("run", "--max-cycles", ranges::MAX_CYCLES),
         ("limit", "--samples", ranges::SAMPLES),
+        ("design", "--vertices", ranges::VERTICES),
+        ("design", "--particles", ranges::PARTICLES),
+        ("design", "--iterations", ranges::ITERATIONS),
     ];
     for (command, flag, range) in counts {
         // An even-only range's neighbours are odd: step over them.

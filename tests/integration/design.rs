@@ -142,11 +142,7 @@ fn no_path_shakes_down_above_lambda_2() {
         c.center(),
     )
     .unwrap();
-    let budget = Budget {
-        particles: 8,
-        iterations: 2,
-        seed: 3,
-    };
+    let budget = Budget::new(8, 2, 3).unwrap();
     let stop = Interrupt::new();
     let found = search(
         &runner,
