@@ -32,8 +32,9 @@ use shakedown::model::ranges;
 pub struct DesignArgs {
     #[command(flatten)]
     pub case: CaseArgs,
-    /// Vertices K of the path between O and A (1..16); with --frontier, the largest K (default 8).
-    #[arg(long, value_name = "K", allow_hyphen_values = true, value_parser = values::count(ranges::VERTICES))]
+    // The helps quote the ranges (`model::ranges`, the one place they are written).
+    #[arg(long, value_name = "K", allow_hyphen_values = true, value_parser = values::count(ranges::VERTICES),
+          help = format!("Vertices K of the path between O and A ({}); with --frontier, the largest K (default 8)", ranges::VERTICES.expected))]
     pub vertices: Option<String>,
     /// Seed of the search's random draws (the same seed gives the same result, whatever the thread count).
     #[arg(
@@ -52,8 +53,8 @@ pub struct DesignArgs {
     /// Swarm generations after the first (default 20; 8 per search with --frontier).
     #[arg(long, value_name = "I", allow_hyphen_values = true, value_parser = values::count(ranges::ITERATIONS))]
     pub iterations: Option<String>,
-    /// How far inside the gross-slip line |y| = 2 pi a vertex must stay (0.001 to 3; default 0.001). A wider gap shows how much that line limits the frontier (docs/model.md section 10).
-    #[arg(long, value_name = "G", allow_hyphen_values = true, value_parser = values::number(ranges::GROSS_GAP))]
+    #[arg(long, value_name = "G", allow_hyphen_values = true, value_parser = values::number(ranges::GROSS_GAP),
+          help = format!("How far inside the gross-slip line |y| = 2 pi a vertex must stay ({}; default {}). A wider gap shows how much that line limits the frontier (docs/model.md section 10)", ranges::GROSS_GAP.expected, ranges::GROSS_GAP.low))]
     pub gross_gap: Option<String>,
     /// The highest lambda at which a found path shakes down, for K = 1..--vertices and both families, beside lambda_1, the best of the 25 and lambda_2 (CSV).
     #[arg(long)]

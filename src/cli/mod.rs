@@ -96,8 +96,9 @@ pub struct ModelArgs {
     /// Plane strain or plane stress.
     #[arg(long, value_name = "strain|stress")]
     pub plane: Option<String>,
-    /// Nodes round the interface (even, 16..4096).
-    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = values::count(ranges::NODES))]
+    // The help quotes the range (`model::ranges`, the one place it is written).
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = values::count(ranges::NODES),
+          help = format!("Nodes round the interface: {}", ranges::NODES.expected))]
     pub nodes: Option<String>,
     /// Increments per cycle.
     #[arg(long, value_name = "STEPS", allow_hyphen_values = true, value_parser = values::count(ranges::STEPS))]

@@ -29,6 +29,9 @@ use crate::stepping::{
 };
 
 /// The swept lists of a sweep: `lambda`, `phi` and the initial paths.
+///
+/// Like [`crate::analysis::case::CaseParams`], an input as given: nothing
+/// is checked here, [`SweepSpec::new`] and [`SweepSpec::over`] validate.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SweepLists {
     /// The load factors `lambda`, in output order.
