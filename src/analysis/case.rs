@@ -413,3 +413,80 @@ pub fn resolve_initial(
     }
     Ok(Initial::parse(name)?)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn small() -> Case {
+        Case::builder().nodes(16).steps(48).build().unwrap()
+    }
+
+    /// A case changes only through setters that keep what ties its parts
+    /// together: a polyline's vertex count divides the increments per
+    /// cycle, and the initial path is resolved.
+    #[test]
+    fn the_setters_keep_the_case_valid() {
+        let mut case = small();
+        let regular = |k: usize| {
+            let v = (0..k)
+                .map(|i| {
+                    let t = 2.0 * PI * i as f64 / k as f64;
+                    LoadPoint::new(t.cos(), t.sin())
+                })
+                .collect();
+            Polyline::new("test", v).unwrap()
+        };
+        let center = case.cycle().center();
+        // 48 increments: 3 vertices divide them, 5 do not.
+        let good = Cycle::polyline(center, 2.0, regular(3)).unwrap();
+        let bad = Cycle::polyline(center, 2.0, regular(5)).unwrap();
+        let before = case.clone();
+        assert!(matches!(
+            case.set_cycle(bad),
+            Err(CaseError::Param(ParamError::StepsPerChord { .. }))
+        ));
+        assert_eq!(case, before, "a refused cycle leaves the case as it was");
+        case.set_cycle(good.clone()).unwrap();
+        assert_eq!(*case.cycle(), good);
+
+        let mut case = small();
+        case.set_initial(Initial::Optimal).unwrap();
+        assert!(
+            matches!(case.initial(), Initial::Slip { name, slip } if name == "optimal" && slip.len() == 16),
+            "{:?}",
+            case.initial()
+        );
+        let via = Initial::Via { a: 7, b: -7 };
+        case.set_initial(via.clone()).unwrap();
+        assert_eq!(*case.initial(), via);
+    }
+
+    /// The cycle cap is checked against its range, as a parameter named
+    /// as the command line spells it.
+    #[test]
+    fn the_cycle_cap_is_checked_against_its_range() {
+        let m = crate::model::ranges::MAX_CYCLES;
+        for bad in [m.min - 1, m.max + 1] {
+            let e = Case::builder()
+                .nodes(16)
+                .max_cycles(bad)
+                .build()
+                .unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    CaseError::Param(ParamError::BadCount {
+                        name: "max-cycles",
+                        ..
+                    })
+                ),
+                "{e}"
+            );
+        }
+        for good in [m.min, m.max] {
+            let case = Case::builder().nodes(16).max_cycles(good).build().unwrap();
+            assert_eq!(case.options().convergence().max_cycles(), good);
+        }
+    }
+}
