@@ -42,6 +42,20 @@ pub enum CaseError {
     /// The initial-path name does not parse.
     #[error(transparent)]
     Path(#[from] PathError),
+    /// A prescribed slip ([`Initial::Slip`]) without one finite value per
+    /// interface node.
+    #[error(
+        "initial slip '{name}' has {len} values: expected {nodes} finite values, one per node"
+    )]
+    Slip {
+        /// The slip's name.
+        name: String,
+        /// The values it has (or, when it has `nodes`, the position from 1
+        /// of the first that is not finite).
+        len: usize,
+        /// The case's interface nodes `N`.
+        nodes: usize,
+    },
     /// The initial path is `optimal` and the `lambda_2` linear programme
     /// that defines it failed (model.md sections 7.3 and 7.4).
     #[error("initial path 'optimal': {0}")]
@@ -140,8 +154,12 @@ impl Case {
     ///
     /// [`CaseError::Param`] for an invalid material ([`Material::new`]),
     /// cycle ([`Cycle::new`]), discretisation ([`Discretisation::new`]) or
-    /// cycle cap (outside [`crate::model::ranges::MAX_CYCLES`]), and
-    /// [`CaseError::Optimal`] when the `optimal` slip cannot be computed.
+    /// cycle cap (outside [`crate::model::ranges::MAX_CYCLES`]);
+    /// [`CaseError::Path`] for a point `a,b` that [`Initial::parse`] refuses
+    /// or a custom path that [`Initial::custom_for`] refuses;
+    /// [`CaseError::Slip`] for a prescribed slip without one finite value
+    /// per node; and [`CaseError::Optimal`] when the `optimal` slip cannot
+    /// be computed.
     /// They are checked in that order, and the first failure is returned.
     pub fn from_params(p: &CaseParams) -> Result<Case, CaseError> {
         let material = Material::new(p.friction, p.poisson, p.plane)?;
@@ -215,14 +233,13 @@ impl Case {
         Ok(())
     }
 
-    /// Another initial path for this case; [`Initial::Optimal`] is resolved
-    /// for this material, cycle and discretisation, as in
-    /// [`Case::from_params`].
+    /// Another initial path for this case, checked and, for
+    /// [`Initial::Optimal`], resolved as in [`Case::from_params`].
     ///
     /// # Errors
     ///
-    /// [`CaseError::Optimal`] when the `optimal` slip cannot be computed;
-    /// the case is then unchanged.
+    /// [`CaseError::Path`], [`CaseError::Slip`] or [`CaseError::Optimal`]
+    /// as in [`Case::from_params`]; the case is then unchanged.
     pub fn set_initial(&mut self, initial: Initial) -> Result<(), CaseError> {
         self.initial = resolve(&initial, &self.material, &self.cycle, &self.disc)?;
         Ok(())
@@ -235,18 +252,37 @@ impl Case {
     }
 }
 
-/// `initial`, with [`Initial::Optimal`] computed for this material, cycle
-/// and discretisation.
+/// `initial`, checked for this case (the variants of [`Initial`] can be
+/// written out by hand, past [`Initial::parse`] and [`Initial::custom_for`]),
+/// with [`Initial::Optimal`] computed for this material, cycle and
+/// discretisation.
 fn resolve(
     initial: &Initial,
     material: &Material,
     cycle: &Cycle,
     disc: &Discretisation,
 ) -> Result<Initial, CaseError> {
-    Ok(match initial {
-        Initial::Optimal => crate::analysis::limit::optimal_initial(material, cycle, disc)?,
-        other => other.clone(),
-    })
+    match initial {
+        Initial::Optimal => Ok(crate::analysis::limit::optimal_initial(
+            material, cycle, disc,
+        )?),
+        Initial::Direct => Ok(Initial::Direct),
+        Initial::Via { a, b } => Ok(Initial::parse(&format!("{a},{b}"))?),
+        Initial::Custom(points) => Ok(Initial::custom_for(points.clone(), material)?),
+        Initial::Slip { name, slip } => {
+            let nodes = disc.nodes();
+            let len = match slip.iter().position(|g| !g.is_finite()) {
+                _ if slip.len() != nodes => slip.len(),
+                Some(k) => k + 1,
+                None => return Ok(initial.clone()),
+            };
+            Err(CaseError::Slip {
+                name: name.clone(),
+                len,
+                nodes,
+            })
+        }
+    }
 }
 
 impl Case {
@@ -460,6 +496,23 @@ mod tests {
         let via = Initial::Via { a: 7, b: -7 };
         case.set_initial(via.clone()).unwrap();
         assert_eq!(*case.initial(), via);
+        // Paths written out by hand are checked as if they were parsed.
+        let before = case.clone();
+        let slip = |values: Vec<f64>| Initial::Slip {
+            name: "hand".into(),
+            slip: std::sync::Arc::new(values),
+        };
+        for bad in [
+            Initial::Via { a: 3, b: 3 },
+            Initial::Custom(vec![LoadPoint::new(0.0, 2.0 * PI)]),
+            Initial::Custom(Vec::new()),
+            slip(vec![0.0; 15]),
+            slip(vec![f64::NAN; 16]),
+        ] {
+            assert!(case.set_initial(bad.clone()).is_err(), "{bad:?}");
+            assert_eq!(case, before);
+        }
+        case.set_initial(slip(vec![0.0; 16])).unwrap();
     }
 
     /// The cycle cap is checked against its range, as a parameter named

@@ -262,6 +262,7 @@ pub fn flag_of(e: &CaseError) -> Option<&'static str> {
             _ => return None,
         }),
         CaseError::Path(_) | CaseError::Optimal(_) => Some("initial"),
+        CaseError::Slip { .. } => None,
     }
 }
 
