@@ -227,8 +227,8 @@ fn polyline_limit(
     );
     let _ = writeln!(
         o,
-        "check     max(|q| - f p) of the optimal slip at lambda_2: {:.2e}  ({} interior-point iterations)",
-        limit.max_violation, limit.iterations
+        "check     max(|q| - f p) of the optimal slip at lambda_2: {:.2e}  ({} interior-point iterations, {} pivots)",
+        limit.max_violation, limit.iterations, limit.pivots
     );
     if let Some(out) = &args.out {
         let _ = writeln!(
@@ -297,8 +297,8 @@ fn readable(
     }
     let _ = writeln!(
         o,
-        "check     max(|q| - f p) of the optimal slip at lambda_2: {:.2e}  ({} interior-point iterations)",
-        l.max_violation, l.iterations
+        "check     max(|q| - f p) of the optimal slip at lambda_2: {:.2e}  ({} interior-point iterations, {} pivots)",
+        l.max_violation, l.iterations, l.pivots
     );
     match out {
         Some(out) => {
