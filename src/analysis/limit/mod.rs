@@ -161,7 +161,7 @@ fn optimum(
     let mut iterations = 0;
     let mut pivots = 0;
     let mut found = None;
-    if nodes > COARSEST && half % 2 == 0 {
+    if nodes > COARSEST && half.is_multiple_of(2) {
         let coarse = optimum(material, center, points, half)?;
         iterations = coarse.iterations;
         pivots = coarse.pivots;

@@ -139,7 +139,9 @@ fn the_vertex_is_the_interior_point_optimum() {
             (0.6 * t.cos(), 0.5 * (2.0 * t).sin())
         })
         .collect();
-    let cases: Vec<(usize, Option<f64>, &[(f64, f64)])> = vec![
+    // (nodes, phase of an ellipse or None, polygon offsets)
+    type Case<'a> = (usize, Option<f64>, &'a [(f64, f64)]);
+    let cases: Vec<Case> = vec![
         (64, Some(0.0), &[]),
         (128, Some(0.0), &[]),
         (128, Some(0.5 * PI), &[]),

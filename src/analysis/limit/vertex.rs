@@ -47,6 +47,17 @@ pub(super) struct Vertex {
     pub pivots: usize,
 }
 
+/// One row replaced in the basis: `K = K0 + e_slot d^T` for each.
+struct Update {
+    slot: usize,
+    /// `d = a_new - a_old`.
+    change: Vec<f64>,
+    /// `K0^-1 e_slot`.
+    column: Vec<f64>,
+    /// `K0^-T d`.
+    row: Vec<f64>,
+}
+
 /// The basis: which row sits in each of the `N` friction slots (slot `N`
 /// is `mean g = 0`), with the factorisation of `K0` and the updates since.
 struct Basis<'p, 'a> {
@@ -55,9 +66,8 @@ struct Basis<'p, 'a> {
     slots: Vec<usize>,
     in_basis: Vec<bool>,
     k0: PartialPivLu<f64>,
-    /// Per update: the slot, `d = a_new - a_old`, `K0^-1 e_slot` and
-    /// `K0^-T d`.
-    updates: Vec<(usize, Vec<f64>, Vec<f64>, Vec<f64>)>,
+    /// The rows replaced since `K0` was factorised.
+    updates: Vec<Update>,
     /// LU of the capacitance `C = I + D^T K0^-1 E` (`p x p`).
     capacitance: Option<PartialPivLu<f64>>,
 }
@@ -110,10 +120,10 @@ impl<'p, 'a> Basis<'p, 'a> {
         let mut x = Self::lu_solve(&self.k0, rhs, false);
         if let Some(cap) = &self.capacitance {
             // x = z - Z C^-1 D^T z
-            let t: Vec<f64> = self.updates.iter().map(|u| dot(&u.1, &x)).collect();
+            let t: Vec<f64> = self.updates.iter().map(|u| dot(&u.change, &x)).collect();
             let w = Self::lu_solve(cap, &t, false);
             for (u, wi) in self.updates.iter().zip(&w) {
-                for (xi, zi) in x.iter_mut().zip(&u.2) {
+                for (xi, zi) in x.iter_mut().zip(&u.column) {
                     *xi -= wi * zi;
                 }
             }
@@ -126,10 +136,10 @@ impl<'p, 'a> Basis<'p, 'a> {
         let mut y = Self::lu_solve(&self.k0, rhs, true);
         if let Some(cap) = &self.capacitance {
             // y = v - Y C^-T E^T v, with Y = K0^-T D
-            let t: Vec<f64> = self.updates.iter().map(|u| y[u.0]).collect();
+            let t: Vec<f64> = self.updates.iter().map(|u| y[u.slot]).collect();
             let w = Self::lu_solve(cap, &t, true);
             for (u, wi) in self.updates.iter().zip(&w) {
-                for (yi, vi) in y.iter_mut().zip(&u.3) {
+                for (yi, vi) in y.iter_mut().zip(&u.row) {
                     *yi -= wi * vi;
                 }
             }
@@ -156,10 +166,15 @@ impl<'p, 'a> Basis<'p, 'a> {
         e[leave_slot] = 1.0;
         let z = Self::lu_solve(&self.k0, &e, false);
         let v = Self::lu_solve(&self.k0, &d, true);
-        self.updates.push((leave_slot, d, z, v));
+        self.updates.push(Update {
+            slot: leave_slot,
+            change: d,
+            column: z,
+            row: v,
+        });
         let p = self.updates.len();
         let c = Mat::<f64>::from_fn(p, p, |i, j| {
-            f64::from(u8::from(i == j)) + dot(&self.updates[i].1, &self.updates[j].2)
+            f64::from(u8::from(i == j)) + dot(&self.updates[i].change, &self.updates[j].column)
         });
         self.capacitance = Some(c.partial_piv_lu());
     }
