@@ -94,7 +94,7 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
         })?,
         None => DEFAULT_SAMPLES,
     };
-    check_samples(samples, params.nodes)?;
+    check_samples(samples)?;
     // A straight cycle (phi = 0) has two load points, not `samples`.
     let points = if params.phase.sin().abs() < 1e-12 {
         2
@@ -169,7 +169,7 @@ fn polyline_limit(
         ))));
     }
     let vertices = polyline.vertices().len();
-    check_samples(vertices, params.nodes)?;
+    check_samples(vertices)?;
     // The increments play no part in lambda_2: any count the cycle takes.
     params.steps = vertices * 16usize.div_ceil(vertices);
     let case = Case::from_params(&params).map_err(|e| case_error(e, |f| args.case.given(f)))?;
@@ -340,7 +340,7 @@ fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
             .map_err(|_| anyhow!(InputError(format!("--samples {t}: not a whole number"))))?,
         None => DEFAULT_SAMPLES,
     };
-    check_samples(samples, params.nodes)?;
+    check_samples(samples)?;
     warn_if_slow_limit(params.nodes, samples.saturating_mul(phases.len()));
     let points = limit_curve(
         &case.material,
@@ -378,41 +378,14 @@ fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Largest `--samples`: the programme has a block of constraints per
-/// sample and node, and its memory grows with their product (4096 samples
-/// at 128 nodes took 2.7 GB).
-pub const MAX_SAMPLES: usize = 1024;
-/// Largest samples x nodes (about 0.7 GB at the rate measured above).
-pub const MAX_SAMPLE_NODES: usize = 1 << 17;
-
-/// A rough time for `limit` on an elliptical cycle: the programme's cost
-/// grows as about `N^3.2` with the node count and linearly with the
-/// samples (CPU time measured at the 64 default samples: 0.06 s at 128
-/// nodes, 0.45 s at 256, 5.1 s at 512).
-pub fn expected_limit_seconds(nodes: usize, samples: usize) -> f64 {
-    0.45 * (nodes as f64 / 256.0).powf(3.2) * samples as f64 / 64.0
-}
-
-/// Warn on stderr (one line) when `limit` will take more than a few
-/// seconds, with the expected time.
-fn warn_if_slow_limit(nodes: usize, samples: usize) {
-    let t = expected_limit_seconds(nodes, samples);
-    if t >= 5.0 {
-        let time = if t < 120.0 {
-            format!("about {t:.0} s")
-        } else {
-            format!("about {:.0} min", t / 60.0)
-        };
-        errln!("warning: --nodes {nodes} with {samples} samples: expect {time} for the linear programme");
-    }
-}
-
-/// Refuse `--samples` beyond the caps, before anything is allocated.
-fn check_samples(samples: usize, nodes: usize) -> Result<()> {
-    let cap = MAX_SAMPLES.min(MAX_SAMPLE_NODES / nodes.max(1)).max(3);
+/// Refuse `--samples` beyond the library's cap, before anything is
+/// allocated. The programme keeps a rate per sample, node and sign
+/// (`16 M N` bytes: 268 MB at the caps of 4096 samples and nodes).
+fn check_samples(samples: usize) -> Result<()> {
+    let cap = shakedown::analysis::limit::MAX_SAMPLES;
     if samples > cap {
         return Err(anyhow!(InputError(format!(
-            "--samples {samples}: at most {cap} with --nodes {nodes} (memory grows with samples x nodes): use fewer"
+            "--samples {samples}: at most {cap} load points: use fewer"
         ))));
     }
     Ok(())
@@ -443,4 +416,26 @@ fn prepare_out(args: &LimitArgs) -> Result<Option<OutputLock>> {
         )))
     })?;
     lock_file_output("--out", out)
+}
+
+/// A rough CPU time for `limit`: the factorisation of the basis on the
+/// finest grid (`O(N^3)`) and the rates of `samples` load points
+/// (`O(M N)`), as measured at the default 64 samples.
+pub fn expected_limit_seconds(nodes: usize, samples: usize) -> f64 {
+    let n = nodes as f64 / 1024.0;
+    0.1 * n * n * n + 1e-8 * samples as f64 * nodes as f64
+}
+
+/// Warn on stderr (one line) when `limit` will take more than a few
+/// seconds, with the expected time.
+fn warn_if_slow_limit(nodes: usize, samples: usize) {
+    let t = expected_limit_seconds(nodes, samples);
+    if t >= 5.0 {
+        let time = if t < 120.0 {
+            format!("about {t:.0} s")
+        } else {
+            format!("about {:.0} min", t / 60.0)
+        };
+        errln!("warning: --nodes {nodes} with {samples} load points: expect {time} for the linear programme");
+    }
 }
