@@ -464,6 +464,7 @@ fn sweep_app(color: bool) -> App {
         line: true,
         max_violation: 0.0,
         iterations: 0,
+        pivots: 0,
     }));
     sweep.move_x(1);
     sweep.move_run(1);
