@@ -158,7 +158,7 @@ impl App {
             return true;
         }
         if self.regime.as_ref().is_ok_and(|r| {
-            r.is_running() || r.started() && matches!(r.curve(), CurveState::Computing)
+            r.is_running() || r.started() && matches!(r.curve(), CurveState::Computing(_))
         }) {
             return true;
         }
