@@ -29,6 +29,7 @@ use crate::model::Cycle;
 use crate::stepping::{self, Phase, Status};
 
 mod log_view;
+pub mod profile_view;
 mod regime_view;
 mod stepping_view;
 mod sweep_view;
@@ -232,6 +233,8 @@ pub struct App {
     tour: Option<tour::Tour>,
     /// When the last few cycles completed: the time a cycle takes.
     cycle_clock: std::collections::VecDeque<Instant>,
+    /// The fretting profile panel (`f`).
+    profile: profile_view::ProfilePanel,
 }
 
 impl App {
@@ -307,6 +310,7 @@ impl App {
             save_dir: std::path::PathBuf::from("."),
             tour: None,
             cycle_clock: Default::default(),
+            profile: Default::default(),
         };
         app.send_restart();
         app
@@ -608,6 +612,7 @@ impl App {
     /// view answers its own actions.
     pub fn apply(&mut self, action: Action) {
         let _ = self.stepping_action(action)
+            || self.profile_action(action)
             || self.log_action(action)
             || self.sweep_action(action)
             || self.regime_action(action)

@@ -396,6 +396,7 @@ impl App {
     pub(super) fn send_restart(&mut self) {
         self.generation += 1;
         self.sent = None;
+        self.forget_profile();
         self.worker.send(Command::Restart {
             generation: self.generation,
             case: Box::new(self.case.clone()),

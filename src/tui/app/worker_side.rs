@@ -101,6 +101,7 @@ impl App {
         }
         self.started = true;
         self.sync();
+        self.ask_profile();
         for i in 0..MAX_REPLIES_PER_FRAME {
             if i % 256 == 255 && Instant::now() >= deadline {
                 break;
@@ -191,6 +192,10 @@ impl App {
                 self.friction = friction;
             }
             Reply::Record(r) if r.generation == self.generation => self.file(*r),
+            Reply::Profile {
+                generation,
+                profile,
+            } if generation == self.generation => self.take_profile(profile),
             Reply::Stopped {
                 generation,
                 seq,
