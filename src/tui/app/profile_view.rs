@@ -77,21 +77,25 @@ impl App {
     pub(super) fn profile_action(&mut self, action: Action) -> bool {
         match action {
             Action::ToggleProfile => {
-                self.profile.visible = !self.profile.visible;
-                if !self.profile.visible {
+                self.stepping.profile.visible = !self.stepping.profile.visible;
+                if !self.stepping.profile.visible {
                     // Reopened, it says the hot spot again.
-                    self.profile.forget();
+                    self.stepping.profile.forget();
                     self.notice = Some("fretting profile: off".into());
                     return true;
                 }
                 self.ask_profile();
-                self.notice = Some(match (self.cycles.last(), &self.profile.profile) {
-                    (None, _) => "fretting profile: it comes when the first cycle completes".into(),
-                    (Some(&(c, _)), Some(p)) if p.cycle == c => {
-                        format!("fretting profile of cycle {c}: {}", hot_spot_text(p))
-                    }
-                    (Some(&(c, _)), _) => format!("fretting profile of cycle {c}: computing…"),
-                });
+                self.notice = Some(
+                    match (self.stepping.cycles.last(), &self.stepping.profile.profile) {
+                        (None, _) => {
+                            "fretting profile: it comes when the first cycle completes".into()
+                        }
+                        (Some(&(c, _)), Some(p)) if p.cycle == c => {
+                            format!("fretting profile of cycle {c}: {}", hot_spot_text(p))
+                        }
+                        (Some(&(c, _)), _) => format!("fretting profile of cycle {c}: computing…"),
+                    },
+                );
             }
             _ => return false,
         }
@@ -100,14 +104,15 @@ impl App {
 
     /// The profile panel, for drawing.
     pub fn profile_panel(&self) -> &ProfilePanel {
-        &self.profile
+        &self.stepping.profile
     }
 
     /// `W` of the cycle the profile on screen is of, as the run recorded
     /// it: the profile's dissipation column sums to it.
     pub fn profile_w(&self) -> Option<f64> {
-        let p = self.profile.profile.as_ref()?;
-        self.cycles
+        let p = self.stepping.profile.profile.as_ref()?;
+        self.stepping
+            .cycles
             .iter()
             .rev()
             .find(|c| c.0 == p.cycle)
@@ -117,23 +122,23 @@ impl App {
     /// Ask the worker for the profile of the last completed cycle, when
     /// the panel is open, none is in flight and the one on screen is older.
     pub(super) fn ask_profile(&mut self) {
-        let panel = &self.profile;
+        let panel = &self.stepping.profile;
         if !panel.visible || panel.pending {
             return;
         }
-        let Some(&(last, _)) = self.cycles.last() else {
+        let Some(&(last, _)) = self.stepping.cycles.last() else {
             return;
         };
         if panel.profile.as_ref().is_some_and(|p| p.cycle >= last) {
             return;
         }
-        self.profile.pending = true;
+        self.stepping.profile.pending = true;
         self.worker.send(Command::Profile);
     }
 
     /// The worker's answer for the current run.
     pub(super) fn take_profile(&mut self, profile: Result<Option<Box<Profile>>, String>) {
-        let panel = &mut self.profile;
+        let panel = &mut self.stepping.profile;
         panel.pending = false;
         match profile {
             Ok(Some(p)) => {
@@ -156,13 +161,13 @@ impl App {
 
     /// The run restarted: its profile is no longer the one on screen.
     pub(super) fn forget_profile(&mut self) {
-        self.profile.forget();
+        self.stepping.profile.forget();
     }
 
     /// Show `profile` as if the worker had sent it: tests draw a fixed,
     /// synthetic profile with it, so snapshots hold no solver numbers.
     pub fn feed_profile(&mut self, profile: Profile) {
-        self.profile.visible = true;
+        self.stepping.profile.visible = true;
         self.take_profile(Ok(Some(Box::new(profile))));
     }
 }
