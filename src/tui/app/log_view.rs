@@ -16,6 +16,36 @@ pub(super) struct LogView {
     pub(super) filter: Filter,
 }
 
+impl LogView {
+    /// The entries the log lists: those matching the filter.
+    pub(super) fn entries(&self) -> Vec<&LogEntry> {
+        self.log
+            .iter()
+            .filter(|e| self.filter.kind.is_none() || self.filter.matches(e))
+            .collect()
+    }
+
+    /// Move the selection by `delta` rows, within the entries listed.
+    pub(super) fn move_selection(&mut self, delta: isize) {
+        let n = self.entries().len();
+        self.log_selected = self
+            .log_selected
+            .saturating_add_signed(delta)
+            .min(n.saturating_sub(1));
+    }
+
+    /// Keep `entry`, dropping the oldest once `max` are kept (the
+    /// selection stays on its entry).
+    pub(super) fn keep(&mut self, entry: LogEntry, max: usize) {
+        if self.log.len() >= max {
+            self.log.pop_front();
+            self.log_dropped += 1;
+            self.log_selected = self.log_selected.saturating_sub(1);
+        }
+        self.log.push_back(entry);
+    }
+}
+
 impl App {
     /// The event log's actions (and the filter's); false if `action` is not one.
     pub(super) fn log_action(&mut self, action: Action) -> bool {
@@ -80,11 +110,6 @@ impl App {
     }
 
     pub(super) fn move_log(&mut self, delta: isize) {
-        let n = self.log_entries().len();
-        self.log_view.log_selected = self
-            .log_view
-            .log_selected
-            .saturating_add_signed(delta)
-            .min(n.saturating_sub(1));
+        self.log_view.move_selection(delta);
     }
 }

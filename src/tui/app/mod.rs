@@ -373,11 +373,7 @@ impl App {
     }
     /// The log entries the overlay lists: those matching the filter.
     pub fn log_entries(&self) -> Vec<&LogEntry> {
-        self.log_view
-            .log
-            .iter()
-            .filter(|e| self.log_view.filter.kind.is_none() || self.log_view.filter.matches(e))
-            .collect()
+        self.log_view.entries()
     }
     /// `(cycle, W)` of every completed cycle.
     pub fn cycles(&self) -> &[(usize, f64)] {
@@ -412,14 +408,7 @@ impl App {
     }
     /// The increment on screen: under the cursor, or the newest.
     pub fn shown(&self) -> Option<&Record> {
-        match self.stepping.cursor {
-            Some(i) => self
-                .stepping
-                .history
-                .get(i)
-                .or(self.stepping.history.newest()),
-            None => self.stepping.history.newest(),
-        }
+        self.stepping.shown()
     }
     /// The profiles on screen: the shown increment's, or the nearest
     /// earlier one that kept them (older detail is decimated).

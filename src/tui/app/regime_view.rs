@@ -18,6 +18,13 @@ impl RegimeView {
             regime_back: View::Sweep,
         }
     }
+
+    /// The map left: its runs and its `lambda_2` stop (what is done is kept).
+    pub(super) fn pause(&mut self) {
+        if let Ok(r) = &mut self.regime {
+            r.pause();
+        }
+    }
 }
 
 impl App {
@@ -90,9 +97,7 @@ impl App {
 
     /// The map left: its runs stop (the cells done are kept).
     pub(super) fn pause_regime(&mut self) {
-        if let Ok(r) = &mut self.regime_view.regime {
-            r.pause();
-        }
+        self.regime_view.pause();
     }
 
     /// `[` `]` in the regime map: the map of another initial path, in the

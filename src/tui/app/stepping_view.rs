@@ -60,6 +60,20 @@ impl SteppingView {
             profile: Default::default(),
         }
     }
+
+    /// The increment on screen: under the cursor, or the newest.
+    pub(super) fn shown(&self) -> Option<&Record> {
+        match self.cursor {
+            Some(i) => self.history.get(i).or(self.history.newest()),
+            None => self.history.newest(),
+        }
+    }
+
+    /// Looking back pauses the run, so the instant stays put.
+    pub(super) fn pause_for_history(&mut self) {
+        self.running = false;
+        self.goal = None;
+    }
 }
 
 impl App {
@@ -146,10 +160,7 @@ impl App {
 
     /// Looking back pauses the run, so the instant stays put.
     pub(super) fn pause_for_history(&mut self) {
-        if self.stepping.running || self.stepping.goal.is_some() {
-            self.stepping.running = false;
-            self.stepping.goal = None;
-        }
+        self.stepping.pause_for_history();
     }
 
     pub(super) fn scrub(&mut self, delta: isize) {

@@ -28,6 +28,14 @@ impl SweepView {
             save_dir: std::path::PathBuf::from("."),
         }
     }
+
+    /// Whether leaving would throw away a sweep map: one still running, or
+    /// finished and not saved.
+    pub(super) fn has_work(&self) -> bool {
+        self.sweep
+            .as_ref()
+            .is_ok_and(|s| s.started() && (s.is_running() || (s.done() > 0 && !self.sweep_saved)))
+    }
 }
 
 impl App {
@@ -137,12 +145,9 @@ impl App {
             f(s);
         }
     }
-    /// Whether leaving would throw away a sweep map: one still running, or
-    /// finished and not saved.
+    /// Whether leaving would throw away a sweep map (see [`SweepView::has_work`]).
     pub(super) fn sweep_has_work(&self) -> bool {
-        self.sweep_view.sweep.as_ref().is_ok_and(|s| {
-            s.started() && (s.is_running() || (s.done() > 0 && !self.sweep_view.sweep_saved))
-        })
+        self.sweep_view.has_work()
     }
 
     pub(super) fn toggle_view(&mut self) {

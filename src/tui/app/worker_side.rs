@@ -291,12 +291,7 @@ impl App {
         for e in &r.events {
             self.stepping.last_event = Some(e.text.clone());
             let max_log = (self.config.history_bytes / LOG_SHARE / LOG_ENTRY_BYTES).max(1000);
-            if self.log_view.log.len() >= max_log {
-                self.log_view.log.pop_front();
-                self.log_view.log_dropped += 1;
-                self.log_view.log_selected = self.log_view.log_selected.saturating_sub(1);
-            }
-            self.log_view.log.push_back(e.clone());
+            self.log_view.keep(e.clone(), max_log);
         }
         self.stepping.history.push(r);
         if let Some(c) = self.stepping.cursor {
