@@ -17,6 +17,10 @@ pub struct ProfilePanel {
     profile: Option<Box<Profile>>,
     /// A profile has been asked for and not yet come back.
     pending: bool,
+    /// The last completed cycle when a profile was last asked for: it is
+    /// not asked for again until a later cycle completes, whatever cycle
+    /// the answer was of.
+    asked: Option<usize>,
     /// Why there is no profile: no cycle completed yet, or the solver's
     /// failure.
     missing: Option<String>,
@@ -44,6 +48,7 @@ impl ProfilePanel {
     fn forget(&mut self) {
         self.profile = None;
         self.pending = false;
+        self.asked = None;
         self.missing = None;
     }
 }
@@ -129,10 +134,13 @@ impl App {
         let Some(&(last, _)) = self.stepping.cycles.last() else {
             return;
         };
-        if panel.profile.as_ref().is_some_and(|p| p.cycle >= last) {
+        if panel.profile.as_ref().is_some_and(|p| p.cycle >= last)
+            || panel.asked.is_some_and(|a| a >= last)
+        {
             return;
         }
         self.stepping.profile.pending = true;
+        self.stepping.profile.asked = Some(last);
         self.worker.send(Command::Profile);
     }
 
