@@ -216,19 +216,37 @@ struct Thread {
     profile_cancel: Arc<AtomicBool>,
 }
 
+/// Up to this many nodes the copies of the cycles' starts are kept from
+/// the first cycle, so `f` shows a profile at once. A copy holds the slip
+/// set's factors, room for `N x N` (8 MiB at 1024 nodes): above that the
+/// copies are kept only once a profile has been asked for.
+const ALWAYS_KEEP_NODES: usize = 1024;
+
 /// Copies of a run's stepper where its last two cycles began: the older
 /// one began the last completed cycle (once the newer one has begun).
-#[derive(Default)]
 struct CycleStarts {
+    /// Whether copies are kept (see [`ALWAYS_KEEP_NODES`]).
+    keep: bool,
     previous: Option<Box<Stepper>>,
     current: Option<Box<Stepper>>,
 }
 
 impl CycleStarts {
+    fn new(keep: bool) -> Self {
+        Self {
+            keep,
+            previous: None,
+            current: None,
+        }
+    }
+
     /// Keep a copy of `s` if it stands at the start of a cycle not yet
     /// kept. A copy is a few vectors of N and the factors of the slip set,
     /// once a cycle.
     fn note(&mut self, s: &Stepper) {
+        if !self.keep {
+            return;
+        }
         if !matches!(s.phase(), Phase::Cycle { increment: 0, .. }) || s.is_inside_increment() {
             return;
         }
@@ -250,13 +268,14 @@ impl CycleStarts {
 /// of its own and send it as a [`Reply::Profile`]; the one in progress, if
 /// any, is cancelled.
 fn spawn_profile(
-    starts: &CycleStarts,
+    starts: &mut CycleStarts,
     replies: &SyncSender<Reply>,
     generation: u64,
     cancel: &mut Arc<AtomicBool>,
 ) {
     cancel.store(true, Ordering::Relaxed);
     *cancel = Arc::new(AtomicBool::new(false));
+    starts.keep = true;
     let Some(start) = starts.last_completed() else {
         let _ = replies.send(Reply::Profile {
             generation,
@@ -294,6 +313,7 @@ impl Thread {
         commands: Receiver<Command>,
         replies: SyncSender<Reply>,
     ) -> Self {
+        let keep = operators.nodes() <= ALWAYS_KEEP_NODES;
         Self {
             operators,
             commands,
@@ -306,7 +326,7 @@ impl Thread {
             budget: usize::MAX,
             pending: None,
             closed: false,
-            starts: CycleStarts::default(),
+            starts: CycleStarts::new(keep),
             profile_cancel: Arc::new(AtomicBool::new(false)),
         }
     }
@@ -376,7 +396,7 @@ impl Thread {
                 self.generation = generation;
                 self.episodes = Some(EpisodeTracker::new(&stepper));
                 self.profile_cancel.store(true, Ordering::Relaxed);
-                self.starts = CycleStarts::default();
+                self.starts = CycleStarts::new(self.starts.keep);
                 self.starts.note(&stepper);
                 let reply = Reply::Started {
                     generation,
@@ -398,7 +418,7 @@ impl Thread {
             }
             Command::Budget(b) => self.budget = b,
             Command::Profile => spawn_profile(
-                &self.starts,
+                &mut self.starts,
                 &self.replies,
                 self.generation,
                 &mut self.profile_cancel,

@@ -162,7 +162,11 @@ impl App {
                 panel.missing = None;
                 panel.profile = Some(p);
             }
-            Ok(None) => panel.missing = Some("no cycle has completed yet".into()),
+            // No copy of a completed cycle's start yet: at more than
+            // 1024 nodes the worker keeps them once a profile is asked for.
+            Ok(None) => {
+                panel.missing = Some("waiting for a cycle to complete from its start".into())
+            }
             Err(e) => panel.missing = Some(format!("no profile: {e}")),
         }
     }
