@@ -40,7 +40,7 @@ use crate::model::{Cycle, Discretisation, LoadPoint, Material, ParamError};
 /// `lambda_2` is then tight to `1 - cos(pi/64)`, about 0.12 %.
 pub const DEFAULT_SAMPLES: usize = 64;
 /// Most samples accepted (the programme has `2 N M` rows).
-pub const MAX_SAMPLES: usize = 4096;
+pub const MAX_SAMPLES: usize = crate::model::ranges::SAMPLES.max;
 /// `lambda` is capped here (as in [`Cycle::new`]); reaching the cap means
 /// no finite limit exists for this cycle direction.
 const LAMBDA_CAP: f64 = 1e3;
@@ -50,7 +50,7 @@ const LAMBDA_CAP: f64 = 1e3;
 pub enum LimitError {
     /// An elliptical cycle was to be sampled at fewer than 3 or more than
     /// [`MAX_SAMPLES`] times `M`; holds the count given.
-    #[error("samples = {0} is out of range: expected 3 to 4096 points on the ellipse")]
+    #[error("samples = {0} is out of range: expected {expected}", expected = crate::model::ranges::SAMPLES.expected)]
     Samples(usize),
     /// The cycle's centre `A`, slope ψ (`slope`) or phase φ (`phase`) is
     /// not valid (as for [`Cycle::new`]).
@@ -144,7 +144,7 @@ pub fn shakedown_limit(
     samples: usize,
 ) -> Result<Limit, LimitError> {
     let line = is_line(slope, phase);
-    if !line && !(3..=MAX_SAMPLES).contains(&samples) {
+    if !line && !crate::model::ranges::SAMPLES.contains(samples) {
         return Err(LimitError::Samples(samples));
     }
     // A unit cycle: its load at time t is the direction the load moves per

@@ -24,7 +24,7 @@ pub struct LimitArgs {
     #[command(flatten)]
     pub case: CaseArgs,
     /// Load points on an elliptical cycle (phi != 0); a straight line uses its two ends.
-    #[arg(long, value_name = "M")]
+    #[arg(long, value_name = "M", value_parser = super::values::count(shakedown::model::ranges::SAMPLES))]
     pub samples: Option<String>,
     /// Write the optimal slip g(theta) here as CSV (nothing is written
     /// without it); `run` and `sweep` start from it with --initial-slip FILE.
@@ -89,7 +89,8 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
     let samples = match &args.samples {
         Some(t) => t.trim().parse::<usize>().map_err(|_| {
             anyhow!(InputError(format!(
-                "--samples {t}: not a whole number: expected 3 to 4096"
+                "--samples {t}: not a whole number: expected {}",
+                shakedown::model::ranges::SAMPLES.expected
             )))
         })?,
         None => DEFAULT_SAMPLES,
@@ -103,10 +104,10 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
     };
     warn_if_slow_limit(params.nodes, points);
     let _lock = prepare_out(&args)?;
-    let (material, center) = (case.material, case.cycle.center());
-    let (slope, phase) = (case.cycle.slope(), case.cycle.phase());
-    let limit =
-        shakedown_limit(&material, center, slope, phase, &case.disc, samples).map_err(classify)?;
+    let (material, center) = (case.material(), case.cycle().center());
+    let (slope, phase) = (case.cycle().slope(), case.cycle().phase());
+    let limit = shakedown_limit(&material, center, slope, phase, &case.disc(), samples)
+        .map_err(classify)?;
     if limit.line {
         if let Some(t) = &args.samples {
             return Err(anyhow!(InputError(format!(
@@ -116,9 +117,16 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
         }
     }
     // Convergence in the sample count (a line has nothing to converge).
-    let convergence =
-        sample_convergence(&material, center, slope, phase, &case.disc, samples, &limit)
-            .map_err(classify)?;
+    let convergence = sample_convergence(
+        &material,
+        center,
+        slope,
+        phase,
+        &case.disc(),
+        samples,
+        &limit,
+    )
+    .map_err(classify)?;
 
     if let Some(out) = &args.out {
         let csv = slip_csv(&limit, &material, center, slope, phase, samples);
@@ -175,8 +183,8 @@ fn polyline_limit(
     let case = Case::from_params(&params).map_err(|e| case_error(e, |f| args.case.given(f)))?;
     warn_if_slow_limit(params.nodes, vertices);
     let _lock = prepare_out(args)?;
-    let (material, center) = (case.material, case.cycle.center());
-    let limit = shakedown::analysis::limit::cycle_limit(&material, &case.cycle, &case.disc, 0)
+    let (material, center) = (case.material(), case.cycle().center());
+    let limit = shakedown::analysis::limit::cycle_limit(&material, case.cycle(), &case.disc(), 0)
         .map_err(classify)?;
     if let Some(out) = &args.out {
         let csv = shakedown::io::csv::polyline_slip_csv(&limit, &material, center, polyline);
@@ -343,11 +351,11 @@ fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
     check_samples(samples, params.nodes)?;
     warn_if_slow_limit(params.nodes, samples.saturating_mul(phases.len()));
     let points = limit_curve(
-        &case.material,
-        case.cycle.center(),
-        case.cycle.slope(),
+        &case.material(),
+        case.cycle().center(),
+        case.cycle().slope(),
         &phases,
-        &case.disc,
+        &case.disc(),
         samples,
     );
     if let Some(e) = points.iter().find_map(|p| p.limit.as_ref().err()) {
@@ -355,10 +363,10 @@ fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
     }
     let _lock = prepare_out(args)?;
     let meta = shakedown::io::csv::limit_curve_metadata(
-        &case.material,
-        case.cycle.center(),
-        case.cycle.slope(),
-        case.disc.nodes(),
+        &case.material(),
+        case.cycle().center(),
+        case.cycle().slope(),
+        case.disc().nodes(),
         &phases,
         samples,
     );

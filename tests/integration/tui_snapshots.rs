@@ -177,7 +177,7 @@ fn synthetic(i: usize, n: usize) -> Record {
 /// The explorer in a fixed, synthetic state after `n` increments.
 fn fixed_app(color: bool, n: usize) -> App {
     let mut app = app(color);
-    let nodes = app.case().disc.nodes();
+    let nodes = app.case().disc().nodes();
     let a = shakedown::LoadPoint::new(0.0, 0.0);
     let b = shakedown::LoadPoint::new(4.0, 0.0);
     app.feed_started(vec![Segment::new(a, b, 0.5)], 0.3);
@@ -318,7 +318,7 @@ fn nothing_is_cut_without_an_ellipsis() {
 #[test]
 fn ascii_draws_ascii_only() {
     let mut app = app(true);
-    let nodes = app.case().disc.nodes();
+    let nodes = app.case().disc().nodes();
     let mut ascii = Config {
         ascii: true,
         ..config(true)
@@ -522,7 +522,7 @@ fn tour_app(stop: usize) -> App {
     for _ in 0..stop {
         app.apply(Action::TourNext);
     }
-    let nodes = app.case().disc.nodes();
+    let nodes = app.case().disc().nodes();
     for i in 0..INCREMENTS {
         app.feed(synthetic(i, nodes));
     }
@@ -661,7 +661,7 @@ fn sweep_save_asks_on_the_status_line() {
 fn the_steady_goal_shows_its_progress() {
     let mut app = app(true);
     app.apply(Action::ToSteady);
-    let nodes = app.case().disc.nodes();
+    let nodes = app.case().disc().nodes();
     for i in 0..1700 {
         app.feed(synthetic(i, nodes));
     }
@@ -718,7 +718,7 @@ fn synthetic_profile(n: usize, friction: f64) -> shakedown::analysis::profile::P
 
 fn profile_app(color: bool) -> App {
     let mut app = fixed_app(color, INCREMENTS);
-    let nodes = app.case().disc.nodes();
+    let nodes = app.case().disc().nodes();
     app.feed_profile(synthetic_profile(nodes, 0.3));
     app
 }
@@ -762,7 +762,7 @@ fn fretting_profile_degrades_gracefully() {
     };
     let case = app.case().clone();
     let mut plain = App::new(case, config);
-    let nodes = plain.case().disc.nodes();
+    let nodes = plain.case().disc().nodes();
     for i in 0..INCREMENTS {
         plain.feed(synthetic(i, nodes));
     }
