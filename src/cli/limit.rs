@@ -147,6 +147,7 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
                 "convergence": conv,
                 "max_violation": limit.max_violation,
                 "iterations": limit.iterations,
+                "pivots": limit.pivots,
                 "slip_csv": args.out.as_ref().map(|p| p.display().to_string()),
                 "parameters": parameters(&params, &material, center),
             })
@@ -200,6 +201,7 @@ fn polyline_limit(
                 "convergence": [],
                 "max_violation": limit.max_violation,
                 "iterations": limit.iterations,
+                "pivots": limit.pivots,
                 "slip_csv": args.out.as_ref().map(|p| p.display().to_string()),
                 "parameters": {
                     "cycle": polyline.name(),
