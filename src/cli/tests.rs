@@ -2,6 +2,7 @@
 
 use clap::CommandFactory;
 
+use super::cost::expected_run_seconds;
 use super::*;
 
 #[test]

@@ -22,7 +22,7 @@ fn every_path_of_the_box_is_admissible() {
         for t in [-0.5, 0.0, 0.3, 1.0, 1.5] {
             let p: Vec<f64> = lo.iter().zip(&hi).map(|(l, u)| l + t * (u - l)).collect();
             for v in s.path(&p) {
-                assert!(s.region.contains(v), "{v:?}");
+                assert!(s.region().contains(v), "{v:?}");
                 assert!(v.y().abs() < 2.0 * PI);
             }
         }
@@ -32,7 +32,7 @@ fn every_path_of_the_box_is_admissible() {
 #[test]
 fn decaying_zig_zag_alternates_and_shrinks() {
     let s = shape(Family::Decaying, 4);
-    let a = s.center;
+    let a = s.center();
     let p = s.path(&[a.x() + 2.0, a.y() - 1.0, 0.5, PI]);
     let d: Vec<(f64, f64)> = p.iter().map(|v| (v.x() - a.x(), v.y() - a.y())).collect();
     for k in 1..4 {
@@ -47,12 +47,12 @@ fn paper_points_and_padding_are_members() {
     let i = LoadPoint::new(-7.0 * PI / 4.0, -7.0 * PI / 4.0);
     let p = s.path(&s.through(i));
     assert_eq!(p[0], i);
-    assert_eq!(p[1], s.center);
+    assert_eq!(p[1], s.center());
     assert_eq!(s.padded(&[i]).unwrap(), s.through(i));
     let d = shape(Family::Decaying, 3);
     let q = d.path(&d.through(i));
     assert_eq!(q[0], i);
-    assert_eq!(q[2], d.center);
+    assert_eq!(q[2], d.center());
 }
 
 #[test]

@@ -87,7 +87,8 @@ pub struct Job {
     pub load_factor: f64,
     /// `phi` of this run, radians.
     pub phase: f64,
-    /// Index into [`SweepSpec::initials`].
+    /// Index into [`SweepSpec::initials`] (a job naming a path the sweep
+    /// lacks gets a row with [`RunError::Initial`]).
     pub initial: usize,
 }
 
@@ -131,6 +132,15 @@ pub enum RunError {
     /// lists; see [`SweepSpec::cycle`]).
     #[error(transparent)]
     Param(#[from] ParamError),
+    /// The job names an initial path the sweep does not have (only for a
+    /// job not from this sweep's [`SweepSpec::jobs`]).
+    #[error("initial path {index} is not one of the sweep's {paths} paths")]
+    Initial {
+        /// The job's [`Job::initial`].
+        index: usize,
+        /// How many initial paths the sweep has.
+        paths: usize,
+    },
 }
 
 /// One finished run.
@@ -571,7 +581,19 @@ impl SweepSpec {
         stop: &dyn Fn() -> bool,
         carry: &mut Carry,
     ) -> Option<Row> {
-        let initial = self.initials[job.initial].name();
+        // A job made elsewhere may name a path this sweep lacks: its row
+        // says so rather than the sweep panicking.
+        let Some(initial) = self.initials.get(job.initial) else {
+            return Some(Row {
+                job: *job,
+                initial: format!("path {}", job.initial),
+                outcome: Err(RunError::Initial {
+                    index: job.initial,
+                    paths: self.initials.len(),
+                }),
+            });
+        };
+        let initial = initial.name();
         let outcome = match starts.get(self, job) {
             Err(e) => Err(e),
             Ok(Err(outcome)) => Ok(*outcome),
@@ -729,7 +751,7 @@ impl Starts {
     fn new(spec: &SweepSpec, jobs: &[Job]) -> Self {
         let mut phases: Vec<u64> = jobs
             .iter()
-            .filter(|j| matches!(spec.initials[j.initial], Initial::Optimal))
+            .filter(|j| matches!(spec.initials.get(j.initial), Some(Initial::Optimal)))
             .map(|j| j.phase.to_bits())
             .collect();
         phases.sort_unstable();
@@ -747,7 +769,13 @@ impl Starts {
         job: &Job,
     ) -> Result<Result<&'a Contact, &'a Outcome>, RunError> {
         let ops = self.ops.get_or_init(|| operators(&spec.disc));
-        match &spec.initials[job.initial] {
+        let Some(initial) = spec.initials.get(job.initial) else {
+            return Err(RunError::Initial {
+                index: job.initial,
+                paths: spec.initials.len(),
+            });
+        };
+        match initial {
             Initial::Optimal => {
                 let cell = &self
                     .optimal

@@ -1,6 +1,7 @@
 //! Tests of the parent module.
 
 use super::*;
+use std::f64::consts::PI;
 
 #[test]
 fn job_order_is_lambda_phi_initial() {
@@ -35,4 +36,37 @@ fn job_order_is_lambda_phi_initial() {
         assert_eq!(jobs[g.start].initial, 0);
     }
     assert_eq!(groups.last().unwrap().end, jobs.len());
+}
+
+/// A job made elsewhere that names a path the sweep lacks gets a row that
+/// says so, and the sweep's own jobs still run.
+#[test]
+fn a_foreign_job_naming_a_missing_path_is_a_row_not_a_panic() {
+    let spec = SweepSpec::new(
+        Material::paper(),
+        Discretisation::new(16, 64).unwrap(),
+        StepOptions::default(),
+        LoadPoint::new(PI, 0.75 * PI),
+        0.625,
+        SweepLists {
+            load_factors: vec![1.0],
+            phases: vec![0.0],
+            initials: vec![Initial::Direct],
+        },
+    )
+    .unwrap();
+    let mut jobs = spec.jobs();
+    jobs.push(Job {
+        index: 1,
+        load_factor: 1.0,
+        phase: 0.0,
+        initial: 7,
+    });
+    let rows = spec.run(&jobs, &|_| {}, &AtomicBool::new(false));
+    assert_eq!(rows.len(), 2);
+    assert_eq!(
+        rows[1].outcome,
+        Err(RunError::Initial { index: 7, paths: 1 })
+    );
+    assert!(rows[0].outcome.is_ok());
 }
