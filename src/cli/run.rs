@@ -282,6 +282,11 @@ pub fn profile_figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
                 .map_err(|e| bad(format!("--from {shown}: {e}")))?;
             let (meta, profile) = shakedown::io::profile::read_profile_csv(&text)
                 .map_err(|e| bad(format!("--from {shown}: {e}")))?;
+            // The profile is drawn without its cycle (the caption names
+            // it from the header), but a --cycle given must be that one.
+            if let Some(c) = &args.model.cycle {
+                super::figure::check_cycle(from, &meta, Some(&super::cycle_file(c)?))?;
+            }
             let friction = meta
                 .get("friction")
                 .and_then(|f| f.trim().parse::<f64>().ok())

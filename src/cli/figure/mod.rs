@@ -3,6 +3,7 @@
 //! without running, `--resume` continues an interrupted sweep figure.
 
 mod from;
+pub(super) use from::check_cycle;
 use from::*;
 
 /// Samples of an elliptical cycle for each point of the regime map's
@@ -41,8 +42,10 @@ use shakedown::io::csv::{
     fmt_number, read_slip_map, slip_csv, slip_map_metadata, sweep_metadata, Metadata,
     MetadataError, SlipMapFile,
 };
+use shakedown::io::cycle::{check_recorded_cycle, LOAD_CYCLE_KEY};
 use shakedown::io::memory_csv::{memory_csv, read_memory_csv};
 use shakedown::io::output::{check_file_stem, is_nonempty_file, same_file};
+use shakedown::model::Polyline;
 
 use super::batch::{
     lock_output, progress, refuse_input_as_output, report_interrupt, stream_sweep, write_file,
@@ -230,10 +233,25 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
     })?;
     // A redraw is drawn with the model of its data: the --from file's
     // header gives every model flag the command line does not.
-    let model = match &args.from {
-        Some(f) => header_model(&args.model, &from_header(f)?),
+    let header = args.from.as_deref().map(from_header).transpose()?;
+    let mut model = match &header {
+        Some(h) => header_model(&args.model, h),
         None => args.model.clone(),
     };
+    // A redraw is drawn with the cycle its data was made with, checked
+    // before anything else of the header is used, and then named as the
+    // file records it (the same content under any file name).
+    let mut preset = preset;
+    let base = preset.params.clone();
+    if let (Some(f), Some(h)) = (&args.from, &header) {
+        let given = match &args.model.cycle {
+            Some(c) => Some(super::cycle_file(c)?),
+            None => preset.params.cycle.take(),
+        };
+        check_cycle(f, h, given.as_ref())?;
+        preset.params.cycle = as_recorded(h, given);
+        model.cycle = None;
+    }
     let used = model
         .apply(preset.params.clone())
         .map_err(|e| match &args.from {
@@ -243,7 +261,15 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
             ))),
             None => e,
         })?;
-    let mut notes = model_note(&preset.params, &used);
+    if fig.kind == FigureKind::Regime {
+        if let Some(p) = &used.cycle {
+            return Err(anyhow!(InputError(format!(
+                "figure {stem}: the regime map is drawn over the phase phi, which the load cycle {} has not: drop --cycle",
+                p.name()
+            ))));
+        }
+    }
+    let mut notes = model_note(&base, &used);
     let file = |ext: &str| out_dir.join(format!("{stem}{ext}"));
     let preset_path = Path::new(&args.name);
     if preset_path.exists() {
@@ -472,7 +498,7 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
         }
         FigureKind::SlipMap => {
             let map = match &args.from {
-                Some(f) => read_slip_map_files(f)?,
+                Some(f) => read_slip_map_files(f, used.cycle.as_ref())?,
                 None => {
                     let case = single_case(&args, &preset)?;
                     let map = slip_map(&case).map_err(|e| input(e.into()))?;
