@@ -561,7 +561,7 @@ fn run_frontier(args: &DesignArgs, vertices: usize, budget: Budget, gap: f64) ->
 /// with `K <= 8`, as `design --frontier`, and the frontier's default budget) drawn as design.svg and
 /// design.png.
 pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
-    use shakedown::figure::design::DesignPlot;
+    use shakedown::figure::{design::DesignPlot, Frame};
     use shakedown::io::csv::Metadata;
     use shakedown::io::design::read_frontier_csv;
     use shakedown::io::parse::parse_point;
@@ -641,14 +641,16 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
         rows: &rows,
         center: shakedown::LoadPoint::new(center.0, center.1),
         slope,
-        title: format!(
-            "Designed transients: N = {}, {} increments per cycle, φ = {}",
-            meta.get("nodes").unwrap_or("?"),
-            meta.get("steps").unwrap_or("?"),
-            meta.get("phi").unwrap_or("?")
-        ),
-        show_title: args.title,
-        style,
+        frame: Frame {
+            title: format!(
+                "Designed transients: N = {}, {} increments per cycle, φ = {}",
+                meta.get("nodes").unwrap_or("?"),
+                meta.get("steps").unwrap_or("?"),
+                meta.get("phi").unwrap_or("?")
+            ),
+            show_title: args.title,
+            style,
+        },
     };
     super::figure::write_plot(&plot, &svg, &png)?;
     errln!(

@@ -242,7 +242,7 @@ fn readable(p: &CaseParams, s: &Outcome, history: &[f64]) -> String {
 /// beside the plot.
 pub fn profile_figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
     use anyhow::anyhow;
-    use shakedown::figure::ProfilePlot;
+    use shakedown::figure::{Frame, ProfilePlot};
     use shakedown::io::output::is_nonempty_file;
     use std::path::PathBuf;
 
@@ -340,9 +340,11 @@ pub fn profile_figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
     let plot = ProfilePlot {
         profile: &profile,
         friction,
-        title,
-        show_title: args.title,
-        style,
+        frame: Frame {
+            title,
+            show_title: args.title,
+            style,
+        },
     };
     super::figure::write_plot(&plot, &file(".svg"), &file(".png"))?;
     outln!(

@@ -11,7 +11,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::style::{
-    padded, pi_label, s, Drawing, FigureStyle, Key, Pattern, Pen, Sample, GREY, LIGHT_GREY, PALETTE,
+    padded, pi_label, s, Figure, FigureStyle, Frame, Key, Pattern, Pen, Sample, GREY, LIGHT_GREY,
+    PALETTE,
 };
 use crate::io::design::FrontierRecord;
 use crate::model::path::Initial;
@@ -26,13 +27,8 @@ pub struct DesignPlot<'a> {
     /// The slope `psi` of the load line (the cycle of the best path is drawn
     /// for `phi = 0`).
     pub slope: f64,
-    /// What the figure shows (its caption; drawn on it only with
-    /// `show_title`).
-    pub title: String,
-    /// Draw the title on the figure (`--title`).
-    pub show_title: bool,
-    /// Where the figure goes (`--style`).
-    pub style: FigureStyle,
+    /// Its style and title.
+    pub frame: Frame,
 }
 
 impl DesignPlot<'_> {
@@ -256,6 +252,12 @@ impl DesignPlot<'_> {
             .map(|r| r.lambda)
             .reduce(f64::max)
     }
+}
+
+impl Figure for DesignPlot<'_> {
+    fn frame(&self) -> &Frame {
+        &self.frame
+    }
 
     /// The key: only what the two panels show.
     fn key(&self) -> Key {
@@ -295,43 +297,25 @@ impl DesignPlot<'_> {
         key
     }
 
-    fn panel_aspect(&self) -> f64 {
-        match self.style {
+    fn plots_aspect(&self) -> f64 {
+        match self.frame.style {
             FigureStyle::Paper1Col => 1.6,
             _ => 0.45,
         }
     }
-}
 
-impl Drawing for DesignPlot<'_> {
-    fn style(&self) -> FigureStyle {
-        self.style
+    fn caption_tail(&self) -> String {
+        ". Left: the highest λ at which a found path O → P1 → … → PK → A shakes down, against its number of vertices K, per family, beside λ₁, the best of the paper's 25 transients and λ₂. Right: the best path of each family on the load plane, with the initial stick region, the gross-slip lines, the paper's 24 turning points (crosses) and the steady cycle at the highest λ found.".to_string()
     }
 
-    fn aspect(&self) -> f64 {
-        self.key()
-            .figure_aspect(self.style, self.panel_aspect(), self.show_title)
-    }
-
-    fn caption(&self) -> String {
-        let mut text = self.title.trim_end_matches('.').to_string();
-        text.push_str(". Left: the highest λ at which a found path O → P1 → … → PK → A shakes down, against its number of vertices K, per family, beside λ₁, the best of the paper's 25 transients and λ₂. Right: the best path of each family on the load plane, with the initial stick region, the gross-slip lines, the paper's 24 turning points (crosses) and the steady cycle at the highest λ found.");
-        text
-    }
-
-    fn title(&self) -> Option<&str> {
-        self.show_title.then_some(self.title.as_str())
-    }
-
-    fn draw<DB: DrawingBackend>(
+    fn draw_plots<DB: DrawingBackend>(
         &self,
-        root: &DrawingArea<DB, Shift>,
+        plots: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
-        let w = root.dim_in_pixel().0;
-        let plots = self.key().draw_below(root, self.style, pen)?;
+        let w = plots.dim_in_pixel().0;
         // One column: the panels one above the other.
-        let (first, second) = if self.style == FigureStyle::Paper1Col {
+        let (first, second) = if self.frame.style == FigureStyle::Paper1Col {
             plots.split_vertically(plots.dim_in_pixel().1 / 2)
         } else {
             plots.split_horizontally(w / 2)

@@ -10,7 +10,7 @@ use plotters::prelude::*;
 
 use super::style::{
     direction_colour, direction_label, directions_forward_first, padded, pi_label, readable, s,
-    Drawing, FigureStyle, Key, Pattern, Pen, Sample, GREEN_LINE,
+    Figure, FigureStyle, Frame, Key, Pattern, Pen, Sample, GREEN_LINE,
 };
 use crate::analysis::slip_map::SlipMap;
 use crate::contact::SlipDirection;
@@ -125,12 +125,8 @@ fn shifted(t0: f64, t1: f64, origin: f64) -> Vec<(f64, f64)> {
 pub struct SlipMapPlot<'a> {
     /// The slip map.
     pub map: &'a SlipMap,
-    /// What the figure shows, in words: the start of its caption.
-    pub title: String,
-    /// Draw the title on the figure (for slides).
-    pub show_title: bool,
-    /// Where the figure goes.
-    pub style: FigureStyle,
+    /// Its style and title.
+    pub frame: Frame,
     /// Where the drawn cycle starts.
     pub origin: TimeOrigin,
 }
@@ -247,6 +243,22 @@ impl SlipMapPlot<'_> {
             .collect()
     }
 
+    /// The name of the time axis: `ωt`, or `ω(t − t₀)` when the drawn
+    /// cycle does not start at `t = 0`.
+    fn time_desc(&self) -> &'static str {
+        if self.origin.resolve(self.map) == 0.0 {
+            "ωt"
+        } else {
+            "ω(t − t₀)"
+        }
+    }
+}
+
+impl Figure for SlipMapPlot<'_> {
+    fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
     fn key(&self) -> Key {
         let mut key = Key::default();
         for d in self.directions() {
@@ -260,31 +272,14 @@ impl SlipMapPlot<'_> {
         key
     }
 
-    /// The name of the time axis: `ωt`, or `ω(t − t₀)` when the drawn
-    /// cycle does not start at `t = 0`.
-    fn time_desc(&self) -> &'static str {
-        if self.origin.resolve(self.map) == 0.0 {
-            "ωt"
-        } else {
-            "ω(t − t₀)"
-        }
-    }
-}
-
-impl Drawing for SlipMapPlot<'_> {
-    fn style(&self) -> FigureStyle {
-        self.style
-    }
-
-    fn aspect(&self) -> f64 {
-        let panel = match self.style {
+    fn plots_aspect(&self) -> f64 {
+        match self.frame.style {
             FigureStyle::Paper1Col => 0.85,
             _ => 0.55,
-        };
-        self.key().figure_aspect(self.style, panel, self.show_title)
+        }
     }
 
-    fn caption(&self) -> String {
+    fn caption_tail(&self) -> String {
         let map = self.map;
         let origin = self.origin.resolve(map);
         let time = if origin == 0.0 {
@@ -296,27 +291,20 @@ impl Drawing for SlipMapPlot<'_> {
             )
         };
         format!(
-            "{}: {}, W = {} per cycle. (a) Slip zones over one steady cycle against θ; (b) the load against the same time; {time}.",
-            self.title.trim_end_matches('.'),
+            ": {}, W = {} per cycle. (a) Slip zones over one steady cycle against θ; (b) the load against the same time; {time}.",
             map.outcome.state(),
             readable(map.outcome.dissipation)
         )
     }
 
-    fn title(&self) -> Option<&str> {
-        self.show_title.then_some(self.title.as_str())
-    }
-
-    fn draw<DB: DrawingBackend>(
+    fn draw_plots<DB: DrawingBackend>(
         &self,
-        root: &DrawingArea<DB, Shift>,
+        plots: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
         let map = self.map;
         let origin = self.origin.resolve(map);
-        let w = root.dim_in_pixel().0;
-        let root = self.key().draw_below(root, self.style, pen)?;
-        let (left, right) = root.split_horizontally(w * 3 / 5);
+        let (left, right) = plots.split_horizontally(plots.dim_in_pixel().0 * 3 / 5);
         let f = pen.text_pt();
         let t_desc = self.time_desc();
 

@@ -197,6 +197,70 @@ impl Pen {
     }
 }
 
+/// What every figure has besides its data: where it goes, and the title
+/// that starts its caption (drawn on it only with `show_title`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// The caption's first sentence, and the title drawn with `show_title`.
+    pub title: String,
+    /// Draw the title on the figure (for slides).
+    pub show_title: bool,
+    /// Where the figure goes.
+    pub style: FigureStyle,
+}
+
+/// What each of this crate's figures supplies; its [`Drawing`] follows:
+/// the key goes below the plots (never over the data), the height is the
+/// plots' and the key's, and the caption starts with the title.
+pub(crate) trait Figure {
+    /// The style and title.
+    fn frame(&self) -> &Frame;
+    /// The key, listing only what the figure shows.
+    fn key(&self) -> Key;
+    /// Height over width of the plots above the key.
+    fn plots_aspect(&self) -> f64;
+    /// What the caption says after the title, from the punctuation that
+    /// ends the title (`. (a) ...`).
+    fn caption_tail(&self) -> String;
+    /// Draw the plots on `plots`, the area above the key.
+    fn draw_plots<DB: DrawingBackend>(
+        &self,
+        plots: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String>;
+}
+
+impl<F: Figure> Drawing for F {
+    fn style(&self) -> FigureStyle {
+        self.frame().style
+    }
+
+    fn aspect(&self) -> f64 {
+        let frame = self.frame();
+        self.key()
+            .figure_aspect(frame.style, self.plots_aspect(), frame.show_title)
+    }
+
+    fn caption(&self) -> String {
+        let title = self.frame().title.trim_end_matches('.');
+        format!("{title}{}", self.caption_tail())
+    }
+
+    fn title(&self) -> Option<&str> {
+        let frame = self.frame();
+        frame.show_title.then_some(frame.title.as_str())
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String> {
+        let plots = self.key().draw_below(root, self.frame().style, pen)?;
+        self.draw_plots(&plots, pen)
+    }
+}
+
 /// A figure plotters can draw on any backend.
 pub trait Drawing {
     /// Where the figure goes.

@@ -31,8 +31,8 @@ use shakedown::figure::data::parse_sweep_csv;
 use shakedown::figure::dissipation::memory_window;
 use shakedown::figure::FigureError;
 use shakedown::figure::{
-    write_svg_png, DissipationPlot, Drawing, FigureStyle, MemoryPlot, RegimePlot, SlipMapPlot,
-    SweepPoint, TimeOrigin,
+    write_svg_png, DissipationPlot, Drawing, FigureStyle, Frame, MemoryPlot, RegimePlot,
+    SlipMapPlot, SweepPoint, TimeOrigin,
 };
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::io::preset::{FigureKind, FigureSpec, Preset};
@@ -337,6 +337,11 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
             format!("{base_title} ({})", notes.join(", "))
         }
     };
+    let frame = |title: String| Frame {
+        title,
+        show_title: args.title,
+        style,
+    };
     let started = Instant::now();
     let mut written = Vec::new();
     if args.resume && !matches!(fig.kind, FigureKind::Dissipation | FigureKind::Regime) {
@@ -369,9 +374,7 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
                 axis: fig.axis,
                 ratchetting: fig.ratchetting,
                 lines: fig.lines,
-                title: titled(&notes),
-                show_title: args.title,
-                style,
+                frame: frame(titled(&notes)),
                 limit: limit.as_ref().map(|l| l.load_factor),
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
@@ -447,13 +450,11 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
             let plot = RegimePlot {
                 map: &map,
                 limit: &curve,
-                title: format!(
+                frame: frame(format!(
                     "{}, transient {}",
                     titled(&notes),
                     spec.initials()[0].name()
-                ),
-                show_title: args.title,
-                style,
+                )),
                 paper_lines: true,
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
@@ -489,9 +490,7 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
             }
             let plot = MemoryPlot {
                 points: &points,
-                title: titled(&notes),
-                show_title: args.title,
-                style,
+                frame: frame(titled(&notes)),
                 limit: limit.as_ref().map(|l| l.load_factor),
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
@@ -513,9 +512,7 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
             describe(&map)?;
             let plot = SlipMapPlot {
                 map: &map,
-                title: titled(&notes),
-                show_title: args.title,
-                style,
+                frame: frame(titled(&notes)),
                 origin,
             };
             outln!(
