@@ -10,31 +10,9 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{check_svg, scratch, shakedown, stderr, stdout};
+use common::{check_svg, lambda_2, ok, scratch, shakedown, stderr, stdout};
 
 const COARSE: [&str; 4] = ["--nodes", "32", "--steps", "100"];
-
-#[track_caller]
-fn ok(args: &[&str]) -> String {
-    let o = shakedown(args);
-    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
-    stdout(&o)
-}
-
-/// The value of `lambda_2` in a command's output (`lambda_2 = 4.9 ...` of
-/// `figure`, `lambda_2  4.9` of `limit`).
-fn lambda_2(text: &str) -> f64 {
-    text.lines()
-        .filter_map(|l| l.trim_start().strip_prefix("lambda_2"))
-        .find_map(|rest| {
-            rest.trim_start_matches([' ', '='])
-                .split_whitespace()
-                .next()?
-                .parse()
-                .ok()
-        })
-        .unwrap_or_else(|| panic!("no lambda_2 in:\n{text}"))
-}
 
 #[test]
 fn a_redraw_uses_the_model_of_its_csv() {

@@ -10,7 +10,7 @@ use crate::common;
 
 use std::path::{Path, PathBuf};
 
-use common::{scratch, shakedown, stderr, stdout};
+use common::{lambda_2, ok, scratch, shakedown, stderr};
 
 /// Coarse grids: 100 increments, a multiple of the square's 4 vertices.
 const COARSE: [&str; 4] = ["--nodes", "32", "--steps", "100"];
@@ -26,17 +26,10 @@ fn s(p: &Path) -> String {
     p.to_str().unwrap().to_string()
 }
 
-#[track_caller]
-fn ok(args: &[&str]) -> String {
-    let o = shakedown(args);
-    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
-    stdout(&o)
-}
-
 /// The one line of a refused command (exit 2), which must contain every
 /// one of `says`.
 #[track_caller]
-fn refused(args: &[&str], says: &[&str]) -> String {
+fn refused(args: &[&str], says: &[&str]) {
     let o = shakedown(args);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
@@ -44,107 +37,117 @@ fn refused(args: &[&str], says: &[&str]) -> String {
     for w in says {
         assert!(err.contains(w), "{args:?}: {err} lacks {w}");
     }
-    err
 }
 
-/// The cycle files of a test: the square as `square.csv` and again under
-/// another name, and another cycle.
-struct Cycles {
-    square: PathBuf,
-    renamed: PathBuf,
-    other: PathBuf,
+/// A test's folder with its cycle files: the square as `square.csv` and
+/// again as `renamed.csv`, and another cycle as `other.csv`.
+struct Scratch {
+    dir: PathBuf,
+    square: String,
+    renamed: String,
+    other: String,
 }
 
-impl Cycles {
-    fn in_dir(dir: &Path) -> Self {
-        let c = Self {
-            square: dir.join("square.csv"),
-            renamed: dir.join("renamed.csv"),
-            other: dir.join("other.csv"),
+impl Scratch {
+    fn new(name: &str) -> Self {
+        let dir = scratch(name);
+        let file = |name: &str, text: &str| {
+            let path = dir.join(name);
+            std::fs::write(&path, text).unwrap();
+            s(&path)
         };
-        std::fs::write(&c.square, SQUARE).unwrap();
-        std::fs::write(&c.renamed, SQUARE).unwrap();
-        std::fs::write(&c.other, OTHER).unwrap();
-        c
+        Self {
+            square: file("square.csv", SQUARE),
+            renamed: file("renamed.csv", SQUARE),
+            other: file("other.csv", OTHER),
+            dir,
+        }
+    }
+
+    fn path(&self, name: &str) -> String {
+        s(&self.dir.join(name))
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
     }
 }
 
 /// The `load-cycle` a file's header records.
-fn recorded_cycle(path: &Path) -> String {
+fn recorded_cycle(path: &str) -> String {
     let text = std::fs::read_to_string(path).unwrap();
     text.lines()
         .find_map(|l| l.strip_prefix("# load-cycle = "))
-        .unwrap_or_else(|| panic!("{}: no load-cycle", path.display()))
+        .unwrap_or_else(|| panic!("{path}: no load-cycle"))
         .to_string()
 }
 
-/// The redraw of `made/NAME` into `again` draws the same plot and caption.
+/// The plot and caption of `figure NAME` in folder `a` and in folder `b`
+/// are the same, byte for byte.
 #[track_caller]
-fn same_figure(made: &Path, again: &Path, name: &str) {
+fn same_figure(a: &str, b: &str, name: &str) {
     for ext in [".svg", ".caption.txt"] {
-        let file = format!("{name}{ext}");
-        assert_eq!(
-            std::fs::read(made.join(&file)).unwrap(),
-            std::fs::read(again.join(&file)).unwrap(),
-            "{file}"
-        );
+        let read = |dir: &str| std::fs::read(Path::new(dir).join(format!("{name}{ext}"))).unwrap();
+        assert_eq!(read(a), read(b), "{name}{ext}");
     }
 }
 
-/// The refusals every `figure NAME --from FILE` of a polyline file gives:
-/// without a cycle, with another one; and the file made from the ellipse
-/// `ellipse` is refused with a cycle.
-fn refusals(head: &[&str], from: &Path, ellipse: &Path, cycles: &Cycles, out: &Path) {
-    let recorded = recorded_cycle(from);
-    let from = s(from);
-    let out = s(out);
-    let with = |extra: &[&str]| -> Vec<String> {
-        let mut v: Vec<String> = head.iter().map(|a| a.to_string()).collect();
-        v.extend(["--from".into(), from.clone(), "--out".into(), out.clone()]);
-        v.extend(extra.iter().map(|a| a.to_string()));
-        v
-    };
-    let args = with(&[]);
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    refused(&args, &[&from, &recorded, "--cycle"]);
-    let other = s(&cycles.other);
-    let args = with(&["--cycle", &other]);
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    refused(&args, &[&recorded, "cycle:other.csv@sha256:", "differ"]);
-    let square = s(&cycles.square);
-    let mut args: Vec<String> = head.iter().map(|a| a.to_string()).collect();
-    args.extend([
-        "--from".into(),
-        s(ellipse),
-        "--out".into(),
-        out,
-        "--cycle".into(),
-        square,
-    ]);
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+/// `figure NAME` (with the list flags `grid`) made from the square into
+/// `made/` and from the ellipse into `ellipse/`; the square's CSV redrawn
+/// without a cycle and with another one, and the ellipse's with the
+/// square, each refused in one line naming the cycles; then the square's
+/// redrawn with its cycle under another file name into `again/`: the same
+/// plot and caption. The outputs of the first run and of the redraw.
+fn made_and_redrawn(t: &Scratch, name: &str, grid: &[&str]) -> (String, String) {
+    let (made, ellipse, again) = (t.path("made"), t.path("ellipse"), t.path("again"));
+    let figure = [&["figure", name][..], grid].concat();
+    let first = ok(&[
+        &figure[..],
+        &["--cycle", &t.square, "--out", &made],
+        &COARSE,
+    ]
+    .concat());
+    ok(&[&figure[..], &["--out", &ellipse], &COARSE].concat());
+    let from = format!("{made}/{name}.csv");
+    let recorded = recorded_cycle(&from);
+    let redraw = [&figure[..], &["--out", &again]].concat();
     refused(
-        &args,
+        &[&redraw[..], &["--from", &from]].concat(),
+        &[&from, &recorded, "--cycle"],
+    );
+    refused(
+        &[&redraw[..], &["--from", &from, "--cycle", &t.other]].concat(),
+        &[&recorded, "cycle:other.csv@sha256:", "differ"],
+    );
+    let from_ellipse = format!("{ellipse}/{name}.csv");
+    refused(
+        &[
+            &redraw[..],
+            &["--from", &from_ellipse, "--cycle", &t.square],
+        ]
+        .concat(),
         &["ellipse", "cycle:square.csv@sha256:", "drop --cycle"],
     );
+    // Nothing was written by the refusals.
+    assert!(!Path::new(&again).exists());
+    let redrawn = ok(&[&redraw[..], &["--from", &from, "--cycle", &t.renamed]].concat());
+    same_figure(&made, &again, name);
+    // The caption names the cycle as the file records it.
+    let caption = std::fs::read_to_string(format!("{again}/{name}.caption.txt")).unwrap();
+    assert!(caption.contains(&recorded), "{caption}");
+    (first, redrawn)
 }
 
 #[test]
 fn a_polyline_slip_map_is_redrawn_with_its_own_cycle() {
-    let dir = scratch("poly-slip-map");
-    let cycles = Cycles::in_dir(&dir);
-    let (made, ellipse, again) = (dir.join("made"), dir.join("ellipse"), dir.join("again"));
-    let square = s(&cycles.square);
-    ok(&[
-        &["figure", "fig5", "--cycle", &square, "--out", &s(&made)][..],
-        &COARSE,
-    ]
-    .concat());
-    ok(&[&["figure", "fig5", "--out", &s(&ellipse)][..], &COARSE].concat());
-
+    let t = Scratch::new("poly-slip-map");
+    made_and_redrawn(&t, "fig5", &[]);
     // The map is the square's: every load of its load table lies on the
     // square x = x0 + lambda u, y = y0 + lambda v with max(|u|, |v|) = 1/2
     // (fig5: lambda = 7, A = (pi, 3 pi / 4)).
-    let load = std::fs::read_to_string(made.join("fig5_load.csv")).unwrap();
+    let load = std::fs::read_to_string(t.path("made/fig5_load.csv")).unwrap();
     let (x0, y0, lambda) = (std::f64::consts::PI, 0.75 * std::f64::consts::PI, 7.0);
     let mut rows = 0;
     for line in load.lines().skip_while(|l| l.starts_with('#')).skip(1) {
@@ -154,147 +157,27 @@ fn a_polyline_slip_map_is_redrawn_with_its_own_cycle() {
         rows += 1;
     }
     assert!(rows > 100, "{rows}");
-
-    let from = made.join("fig5.csv");
-    refusals(
-        &["figure", "fig5"],
-        &from,
-        &ellipse.join("fig5.csv"),
-        &cycles,
-        &again,
-    );
-    // Nothing was written by the refusals.
-    assert!(!again.exists());
-    // With its cycle under another file name: the same figure, whose
-    // caption names the cycle as the file records it.
-    let renamed = s(&cycles.renamed);
-    ok(&[
-        "figure",
-        "fig5",
-        "--from",
-        &s(&from),
-        "--cycle",
-        &renamed,
-        "--out",
-        &s(&again),
-    ]);
-    same_figure(&made, &again, "fig5");
-    let caption = std::fs::read_to_string(again.join("fig5.caption.txt")).unwrap();
-    assert!(caption.contains(&recorded_cycle(&from)), "{caption}");
-    std::fs::remove_dir_all(&dir).unwrap();
-}
-
-/// The value of `lambda_2` in a command's output (`lambda_2 = 4.9 ...` of
-/// `figure`, `lambda_2  4.9` of `limit`).
-fn lambda_2(text: &str) -> f64 {
-    text.lines()
-        .filter_map(|l| l.trim_start().strip_prefix("lambda_2"))
-        .find_map(|rest| {
-            rest.trim_start_matches([' ', '='])
-                .split_whitespace()
-                .next()?
-                .parse()
-                .ok()
-        })
-        .unwrap_or_else(|| panic!("no lambda_2 in:\n{text}"))
 }
 
 #[test]
 fn a_polyline_sweep_figure_is_redrawn_with_its_own_cycle() {
-    let dir = scratch("poly-sweep");
-    let cycles = Cycles::in_dir(&dir);
-    let (made, ellipse, again) = (dir.join("made"), dir.join("ellipse"), dir.join("again"));
-    let grid = ["--lambda", "4.5,5.5", "--initial", "OA"];
-    let square = s(&cycles.square);
-    let first = ok(&[
-        &["figure", "fig3", "--cycle", &square, "--out", &s(&made)][..],
-        &grid,
-        &COARSE,
-    ]
-    .concat());
-    ok(&[
-        &["figure", "fig3", "--out", &s(&ellipse)][..],
-        &grid,
-        &COARSE,
-    ]
-    .concat());
-    let head = [&["figure", "fig3"][..], &grid].concat();
-    refusals(
-        &head,
-        &made.join("fig3.csv"),
-        &ellipse.join("fig3.csv"),
-        &cycles,
-        &again,
-    );
-    let redrawn = ok(&[
-        &[
-            "figure",
-            "fig3",
-            "--from",
-            &s(&made.join("fig3.csv")),
-            "--cycle",
-            &s(&cycles.renamed),
-            "--out",
-            &s(&again),
-        ][..],
-        &grid,
-    ]
-    .concat());
-    same_figure(&made, &again, "fig3");
+    let t = Scratch::new("poly-sweep");
+    let (first, redrawn) =
+        made_and_redrawn(&t, "fig3", &["--lambda", "4.5,5.5", "--initial", "OA"]);
     // The redraw's lambda_2 is the square's, as `limit` gives it for that
     // cycle (the LP at its vertices), not the ellipse's.
-    let limit = ok(&[&["limit", "--cycle", &square][..], &COARSE[..2]].concat());
+    let limit = ok(&["limit", "--cycle", &t.square, "--nodes", "32"]);
     assert_eq!(lambda_2(&redrawn), lambda_2(&first));
     assert!(
         (lambda_2(&redrawn) - lambda_2(&limit)).abs() < 2e-6,
         "{redrawn}\n{limit}"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn a_polyline_memory_figure_is_redrawn_with_its_own_cycle() {
-    let dir = scratch("poly-memory");
-    let cycles = Cycles::in_dir(&dir);
-    let (made, ellipse, again) = (dir.join("made"), dir.join("ellipse"), dir.join("again"));
-    let grid = ["--lambda", "4.5,5.5"];
-    let square = s(&cycles.square);
-    ok(&[
-        &["figure", "fig4", "--cycle", &square, "--out", &s(&made)][..],
-        &grid,
-        &COARSE,
-    ]
-    .concat());
-    ok(&[
-        &["figure", "fig4", "--out", &s(&ellipse)][..],
-        &grid,
-        &COARSE,
-    ]
-    .concat());
-    let head = [&["figure", "fig4"][..], &grid].concat();
-    refusals(
-        &head,
-        &made.join("fig4.csv"),
-        &ellipse.join("fig4.csv"),
-        &cycles,
-        &again,
-    );
-    ok(&[
-        &[
-            "figure",
-            "fig4",
-            "--from",
-            &s(&made.join("fig4.csv")),
-            "--cycle",
-            &s(&cycles.renamed),
-            "--out",
-            &s(&again),
-        ][..],
-        &grid,
-    ]
-    .concat());
-    same_figure(&made, &again, "fig4");
-    std::fs::remove_dir_all(&dir).unwrap();
+    let t = Scratch::new("poly-memory");
+    made_and_redrawn(&t, "fig4", &["--lambda", "4.5,5.5"]);
 }
 
 /// The regime map is drawn over phi, which a polyline has not: it is not
@@ -302,39 +185,31 @@ fn a_polyline_memory_figure_is_redrawn_with_its_own_cycle() {
 /// stored `lambda_2(phi)` curve whose header claims a polyline is refused.
 #[test]
 fn the_regime_map_is_never_drawn_with_a_polyline() {
-    let dir = scratch("poly-regime");
-    let cycles = Cycles::in_dir(&dir);
-    let (made, again) = (dir.join("made"), dir.join("again"));
+    let t = Scratch::new("poly-regime");
+    let (made, again) = (t.path("made"), t.path("again"));
     let grid = ["--lambda", "4.5,5.5", "--phi", "0,pi/2"];
-    let square = s(&cycles.square);
     refused(
         &[
-            &["figure", "regime", "--cycle", &square, "--out", &s(&made)][..],
+            &["figure", "regime", "--cycle", &t.square, "--out", &made][..],
             &COARSE,
         ]
         .concat(),
         &["regime", "phi", "cycle:square.csv@sha256:", "drop --cycle"],
     );
-    assert!(!made.exists());
-    ok(&[
-        &["figure", "regime", "--out", &s(&made)][..],
-        &grid,
-        &COARSE,
-    ]
-    .concat());
-    let from = s(&made.join("regime.csv"));
-    let again = s(&again);
-    let head = [
+    assert!(!Path::new(&made).exists());
+    ok(&[&["figure", "regime", "--out", &made][..], &grid, &COARSE].concat());
+    let from = format!("{made}/regime.csv");
+    let redraw = [
         &["figure", "regime", "--from", &from, "--out", &again][..],
         &grid,
     ]
     .concat();
     refused(
-        &[&head[..], &["--cycle", &square]].concat(),
+        &[&redraw[..], &["--cycle", &t.square]].concat(),
         &["ellipse", "drop --cycle"],
     );
     // The curve beside it, edited to claim a polyline.
-    let curve = made.join("regime_limit.csv");
+    let curve = format!("{made}/regime_limit.csv");
     let text = std::fs::read_to_string(&curve).unwrap();
     let claimed = text.replacen(
         "# table = limit-curve\n",
@@ -343,79 +218,47 @@ fn the_regime_map_is_never_drawn_with_a_polyline() {
     );
     assert_ne!(claimed, text);
     std::fs::write(&curve, claimed).unwrap();
-    refused(&head, &["regime_limit.csv", "load-cycle"]);
-    std::fs::remove_dir_all(&dir).unwrap();
+    refused(&redraw, &["regime_limit.csv", "load-cycle"]);
 }
 
 #[test]
 fn a_polyline_profile_is_redrawn_without_a_cycle_but_not_with_another() {
-    let dir = scratch("poly-profile");
-    let cycles = Cycles::in_dir(&dir);
-    let (made, ellipse, again) = (dir.join("made"), dir.join("ellipse"), dir.join("again"));
-    let square = s(&cycles.square);
+    let t = Scratch::new("poly-profile");
+    let (made, ellipse, again) = (t.path("made"), t.path("ellipse"), t.path("again"));
     let one = ["--lambda", "5", "--initial", "OA"];
-    ok(&[
-        &["figure", "profile", "--cycle", &square, "--out", &s(&made)][..],
-        &one,
-        &COARSE,
-    ]
-    .concat());
-    ok(&[
-        &["figure", "profile", "--out", &s(&ellipse)][..],
-        &one,
-        &COARSE,
-    ]
-    .concat());
-    let from = made.join("profile.csv");
+    let figure = [&["figure", "profile"][..], &one, &COARSE].concat();
+    ok(&[&figure[..], &["--cycle", &t.square, "--out", &made]].concat());
+    ok(&[&figure[..], &["--out", &ellipse]].concat());
+    let from = format!("{made}/profile.csv");
     let recorded = recorded_cycle(&from);
     // The profile is drawn from its per-node columns alone, and its caption
     // names the cycle from the header: no cycle is needed, and the one
     // given, under any name, must be that one.
-    ok(&[
-        "figure",
-        "profile",
-        "--from",
-        &s(&from),
-        "--out",
-        &s(&again),
-    ]);
+    let redraw = [
+        "figure", "profile", "--from", &from, "--out", &again, "--force",
+    ];
+    ok(&redraw);
     same_figure(&made, &again, "profile");
-    let caption = std::fs::read_to_string(again.join("profile.caption.txt")).unwrap();
+    let caption = std::fs::read_to_string(format!("{again}/profile.caption.txt")).unwrap();
     assert!(caption.contains(&recorded), "{caption}");
-    let (other, renamed) = (s(&cycles.other), s(&cycles.renamed));
-    let again_s = s(&again);
-    let from_s = s(&from);
-    let redraw = |extra: &[&str]| -> Vec<String> {
-        [
-            &[
-                "figure", "profile", "--from", &from_s, "--out", &again_s, "--force",
-            ][..],
-            extra,
-        ]
-        .concat()
-        .iter()
-        .map(|a| a.to_string())
-        .collect()
-    };
-    let args = redraw(&["--cycle", &other]);
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    refused(&args, &[&recorded, "cycle:other.csv@sha256:"]);
-    let args = redraw(&["--cycle", &renamed]);
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    ok(&args);
+    refused(
+        &[&redraw[..], &["--cycle", &t.other]].concat(),
+        &[&recorded, "cycle:other.csv@sha256:"],
+    );
+    ok(&[&redraw[..], &["--cycle", &t.renamed]].concat());
+    let from_ellipse = format!("{ellipse}/profile.csv");
     refused(
         &[
             "figure",
             "profile",
             "--from",
-            &s(&ellipse.join("profile.csv")),
+            &from_ellipse,
             "--out",
-            &again_s,
+            &again,
             "--force",
             "--cycle",
-            &square,
+            &t.square,
         ],
         &["ellipse", "drop --cycle"],
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
