@@ -298,10 +298,7 @@ impl Figure for DesignPlot<'_> {
     }
 
     fn plots_aspect(&self) -> f64 {
-        match self.frame.style {
-            FigureStyle::Paper1Col => 1.6,
-            _ => 0.45,
-        }
+        self.frame.one_column_or(1.6, 0.45)
     }
 
     fn caption_tail(&self) -> String {

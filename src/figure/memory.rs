@@ -3,9 +3,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::style::{
-    padded, readable, s, Figure, FigureStyle, Frame, Key, Pattern, Pen, Sample, DARK_RED, GREY,
-};
+use super::style::{padded, readable, s, Figure, Frame, Key, Pattern, Pen, Sample, DARK_RED, GREY};
 use crate::analysis::memory::{ratchetting_onset, MemoryPoint};
 
 /// Points of one curve, `(lambda, value)`.
@@ -82,10 +80,7 @@ impl Figure for MemoryPlot<'_> {
     }
 
     fn plots_aspect(&self) -> f64 {
-        match self.frame.style {
-            FigureStyle::Paper1Col => 0.75,
-            _ => 0.55,
-        }
+        self.frame.one_column_or(0.75, 0.55)
     }
 
     fn caption_tail(&self) -> String {

@@ -14,8 +14,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::style::{
-    readable, s, Figure, FigureStyle, Frame, Key, Pattern, Pen, Sample, DARK_BLUE, DARK_RED,
-    GREEN_LINE,
+    readable, s, Figure, Frame, Key, Pattern, Pen, Sample, DARK_BLUE, DARK_RED, GREEN_LINE,
 };
 use crate::analysis::profile::Profile;
 
@@ -171,10 +170,7 @@ impl Figure for ProfilePlot<'_> {
     }
 
     fn plots_aspect(&self) -> f64 {
-        match self.frame.style {
-            FigureStyle::Paper1Col => 1.5,
-            _ => 1.0,
-        }
+        self.frame.one_column_or(1.5, 1.0)
     }
 
     fn caption_tail(&self) -> String {

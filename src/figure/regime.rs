@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::style::{pow10_label, s, Figure, FigureStyle, Frame, Key, Mark, Pattern, Pen, Sample};
+use super::style::{pow10_label, s, Figure, Frame, Key, Mark, Pattern, Pen, Sample};
 use crate::analysis::regime::RegimeMap;
 use crate::io::preset::RatchettingMarkers;
 use crate::palette::{shade, Rgb, Shading};
@@ -141,10 +141,7 @@ impl Figure for RegimePlot<'_> {
     }
 
     fn plots_aspect(&self) -> f64 {
-        match self.frame.style {
-            FigureStyle::Paper1Col => 0.8,
-            _ => 0.6,
-        }
+        self.frame.one_column_or(0.8, 0.6)
     }
 
     fn caption_tail(&self) -> String {

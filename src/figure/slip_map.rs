@@ -10,7 +10,7 @@ use plotters::prelude::*;
 
 use super::style::{
     direction_colour, direction_label, directions_forward_first, padded, pi_label, readable, s,
-    Figure, FigureStyle, Frame, Key, Pattern, Pen, Sample, GREEN_LINE,
+    Figure, Frame, Key, Pattern, Pen, Sample, GREEN_LINE,
 };
 use crate::analysis::slip_map::SlipMap;
 use crate::contact::SlipDirection;
@@ -273,10 +273,7 @@ impl Figure for SlipMapPlot<'_> {
     }
 
     fn plots_aspect(&self) -> f64 {
-        match self.frame.style {
-            FigureStyle::Paper1Col => 0.85,
-            _ => 0.55,
-        }
+        self.frame.one_column_or(0.85, 0.55)
     }
 
     fn caption_tail(&self) -> String {

@@ -230,6 +230,17 @@ pub(crate) trait Figure {
     ) -> Result<(), String>;
 }
 
+impl Frame {
+    /// `one_column` in a journal column (`paper-1col`), else `wider`: a
+    /// narrow figure needs its plots taller for their width.
+    pub(crate) fn one_column_or(&self, one_column: f64, wider: f64) -> f64 {
+        match self.style {
+            FigureStyle::Paper1Col => one_column,
+            _ => wider,
+        }
+    }
+}
+
 impl<F: Figure> Drawing for F {
     fn style(&self) -> FigureStyle {
         self.frame().style

@@ -371,14 +371,19 @@ fn table_lines<'a>(
     }
 }
 
-/// A complete line's fields, or why not: a last line without its newline
-/// is a file cut short.
-fn row_fields(n: usize, line: &str, columns: usize) -> Result<Vec<&str>, SlipMapFileError> {
-    let row = |why: &str| SlipMapFileError::Row {
+/// Line `n` of a file, `line`, cannot be read: `why`.
+fn row_error(n: usize, line: &str, why: &str) -> SlipMapFileError {
+    SlipMapFileError::Row {
         line: n,
         why: why.to_string(),
         text: escape_text(line.trim_end(), 60),
-    };
+    }
+}
+
+/// A complete line's fields, or why not: a last line without its newline
+/// is a file cut short.
+fn row_fields(n: usize, line: &str, columns: usize) -> Result<Vec<&str>, SlipMapFileError> {
+    let row = |why: &str| row_error(n, line, why);
     let Some(body) = line.strip_suffix('\n') else {
         return Err(row("the last line is incomplete (the file is cut short)"));
     };
@@ -404,11 +409,7 @@ fn slip_map_rows(text: &str, head: &SlipMapHead) -> Result<Vec<MapIncrement>, Sl
             continue;
         }
         let f = row_fields(n, line, 3)?;
-        let row = |why: &str| SlipMapFileError::Row {
-            line: n,
-            why: why.to_string(),
-            text: escape_text(line.trim_end(), 60),
-        };
+        let row = |why: &str| row_error(n, line, why);
         let num = |t: &str| t.parse::<f64>().ok().filter(|x| x.is_finite());
         let (j, k) = (found % nodes, found / nodes);
         let t1 = num(f[0]).ok_or_else(|| row("omega_t is not a finite number"))?;
@@ -476,11 +477,7 @@ fn slip_map_loads(
             continue;
         }
         let f = row_fields(n, line, 5)?;
-        let row = |why: &str| SlipMapFileError::Row {
-            line: n,
-            why: why.to_string(),
-            text: escape_text(line.trim_end(), 60),
-        };
+        let row = |why: &str| row_error(n, line, why);
         let v: Vec<f64> = f
             .iter()
             .map(|t| t.parse::<f64>().ok().filter(|x| x.is_finite()))

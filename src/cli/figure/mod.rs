@@ -358,14 +358,8 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
             if !redraw {
                 written.push(file(".csv"));
             }
-            let limit = limit_of(&fig, &spec, &points)?;
-            if let Some(l) = &limit {
-                if !redraw {
-                    write_limit(&file("_limit.csv"), l, &spec)?;
-                    written.push(file("_limit.csv"));
-                }
-                outln!("lambda_2 = {:.6} (linear programme)", l.load_factor);
-            }
+            let limit_file = (!redraw).then(|| file("_limit.csv"));
+            let limit = mark_limit(&fig, &spec, &points, limit_file, &mut written)?;
             if let Some((l1, l3)) = memory_window(&points) {
                 outln!("the transients disagree from lambda = {l1} to lambda_3 = {l3}");
             }
@@ -375,7 +369,7 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
                 ratchetting: fig.ratchetting,
                 lines: fig.lines,
                 frame: frame(titled(&notes)),
-                limit: limit.as_ref().map(|l| l.load_factor),
+                limit,
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
             outln!("{} runs", points.len());
@@ -477,21 +471,15 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
                     points
                 }
             };
-            let limit = limit_of(&fig, &spec, &[])?;
-            if let Some(l) = &limit {
-                if !redraw {
-                    write_limit(&file("_limit.csv"), l, &spec)?;
-                    written.push(file("_limit.csv"));
-                }
-                outln!("lambda_2 = {:.6} (linear programme)", l.load_factor);
-            }
+            let limit_file = (!redraw).then(|| file("_limit.csv"));
+            let limit = mark_limit(&fig, &spec, &[], limit_file, &mut written)?;
             if let Some(l3) = ratchetting_onset(&points) {
                 outln!("lambda_3 = {l3} (every transient ratchets from here on)");
             }
             let plot = MemoryPlot {
                 points: &points,
                 frame: frame(titled(&notes)),
-                limit: limit.as_ref().map(|l| l.load_factor),
+                limit,
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
         }
@@ -594,6 +582,27 @@ fn limit_of(fig: &FigureSpec, spec: &SweepSpec, points: &[SweepPoint]) -> Result
         DEFAULT_SAMPLES,
     )?;
     Ok(Some(l))
+}
+
+/// `lambda_2` as the figure marks it ([`limit_of`]), printed; a figure
+/// that is made (not redrawn) also writes it to `file` (`NAME_limit.csv`),
+/// which then joins `written`.
+fn mark_limit(
+    fig: &FigureSpec,
+    spec: &SweepSpec,
+    points: &[SweepPoint],
+    file: Option<PathBuf>,
+    written: &mut Vec<PathBuf>,
+) -> Result<Option<f64>> {
+    let Some(l) = limit_of(fig, spec, points)? else {
+        return Ok(None);
+    };
+    if let Some(file) = file {
+        write_limit(&file, &l, spec)?;
+        written.push(file);
+    }
+    outln!("lambda_2 = {:.6} (linear programme)", l.load_factor);
+    Ok(Some(l.load_factor))
 }
 
 fn write_limit(path: &Path, l: &Limit, spec: &SweepSpec) -> Result<()> {
