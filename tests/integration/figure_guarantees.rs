@@ -206,3 +206,38 @@ fn sweep_rows_print_numbers_in_shortest_form() {
     assert!(text.contains("# lambda = 1e-320"), "{text}");
     assert!(text.lines().all(|l| l.len() < 200), "{text}");
 }
+
+/// The preset's title names its case (fig7: λ = 5.1, φ = π/2, OA); a slip
+/// map of another case says which, and its redraw says the same.
+#[test]
+fn a_slip_map_of_another_case_says_so_in_its_caption() {
+    let dir = scratch("slip-map-case");
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let (made, again) = (s(&dir.join("made")), s(&dir.join("again")));
+    let case = ["--lambda", "4.5", "--phi", "pi/4", "--initial", "7,-7"];
+    ok(&[&["figure", "fig7", "--out", &made][..], &case, &COARSE].concat());
+    let caption = std::fs::read_to_string(dir.join("made/fig7.caption.txt")).unwrap();
+    for note in ["λ = 4.5", "φ = 0.25π", "initial path 7,-7"] {
+        assert!(caption.contains(note), "{caption} lacks {note}");
+    }
+    ok(&[
+        "figure",
+        "fig7",
+        "--from",
+        &format!("{made}/fig7.csv"),
+        "--out",
+        &again,
+    ]);
+    let redrawn = std::fs::read_to_string(dir.join("again/fig7.caption.txt")).unwrap();
+    assert_eq!(redrawn, caption);
+    // The preset's own case adds no note.
+    let own = s(&dir.join("own"));
+    ok(&[&["figure", "fig7", "--out", &own][..], &COARSE].concat());
+    let caption = std::fs::read_to_string(dir.join("own/fig7.caption.txt")).unwrap();
+    assert!(
+        caption
+            .starts_with("Fig. 7: point C, λ = 5.1, φ = π/2 (N = 32, 100 increments per cycle):"),
+        "{caption}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

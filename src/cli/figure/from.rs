@@ -146,6 +146,31 @@ pub(super) fn model_note(base: &CaseParams, used: &CaseParams) -> Vec<String> {
     v
 }
 
+/// Where the case of a slip map (its `cycle` and `initial` path) differs
+/// from its preset's (`base`, with the preset's initial path
+/// `preset_initial`), whose title names it: `λ = 5`, `φ = 0.5π`,
+/// `initial path 7,-7`. A polyline's phase is in its vertices, and
+/// [`model_note`] names the cycle.
+pub(super) fn case_note(
+    base: &CaseParams,
+    preset_initial: &shakedown::model::Initial,
+    cycle: &shakedown::model::Cycle,
+    initial: &str,
+) -> Vec<String> {
+    let mut v = Vec::new();
+    if cycle.load_factor() != base.load_factor {
+        v.push(format!("λ = {}", fmt_number(cycle.load_factor())));
+    }
+    if cycle.as_polyline().is_none() && cycle.phase() != base.phase {
+        let phase = cycle.phase() / std::f64::consts::PI;
+        v.push(format!("φ = {}π", fmt_number(phase)));
+    }
+    if initial != preset_initial.name() {
+        v.push(format!("initial path {initial}"));
+    }
+    v
+}
+
 /// A sweep figure's points, and how much of its table they are.
 type Drawn = (Vec<SweepPoint>, Option<Partial>);
 

@@ -484,9 +484,12 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
             write_plot(&plot, &file(".svg"), &file(".png"))?;
         }
         FigureKind::SlipMap => {
-            let map = match &args.from {
-                Some(f) => read_slip_map_files(f, used.cycle.as_ref())?,
-                None => {
+            let (map, initial) = match (&args.from, &header) {
+                (Some(f), Some(h)) => (
+                    read_slip_map_files(f, used.cycle.as_ref())?,
+                    h.get("initial").unwrap_or_default().to_string(),
+                ),
+                _ => {
                     let case = single_case(&args, &preset)?;
                     let map = slip_map(&case).map_err(|e| input(e.into()))?;
                     let meta = slip_map_metadata(&case, &map).render();
@@ -494,10 +497,15 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
                     write(&file("_load.csv"), &(meta + &map.load_csv()))?;
                     written.push(file(".csv"));
                     written.push(file("_load.csv"));
-                    map
+                    (map, case.initial.name())
                 }
             };
             describe(&map)?;
+            // The preset's title names its case (fig5: λ = 7, φ = 0): the
+            // caption says where the case drawn is another.
+            let preset_initial = preset.initial_path.clone().unwrap_or(base.initial.clone());
+            let case_notes = case_note(&base, &preset_initial, &map.cycle, &initial);
+            notes.splice(0..0, case_notes);
             let plot = SlipMapPlot {
                 map: &map,
                 frame: frame(titled(&notes)),
