@@ -262,3 +262,19 @@ fn a_polyline_profile_is_redrawn_without_a_cycle_but_not_with_another() {
         &["ellipse", "drop --cycle"],
     );
 }
+
+/// The design figure is the paper's question on its ellipse: a polyline is
+/// refused whether the frontier is to be made or redrawn.
+#[test]
+fn the_design_figure_refuses_a_polyline() {
+    let t = Scratch::new("poly-design");
+    let out = t.path("out");
+    for from in [None, Some(t.path("frontier.csv"))] {
+        let mut args = vec!["figure", "design", "--cycle", &t.square, "--out", &out];
+        if let Some(f) = &from {
+            args.extend(["--from", f.as_str()]);
+        }
+        refused(&args, &["--cycle", "square.csv", "drop --cycle"]);
+    }
+    assert!(!Path::new(&out).exists());
+}

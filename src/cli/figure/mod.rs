@@ -68,7 +68,7 @@ pub struct FigureArgs {
     /// old files stay until the new ones are complete.
     #[arg(long)]
     pub force: bool,
-    /// Redraw from a CSV this figure wrote (NAME.csv; a slip map also reads NAME_load.csv beside it), without running anything. The figure is drawn with the CSV's model (its header): lambda_2, lambda_3 and the title are those of the data.
+    /// Redraw from a CSV this figure wrote (NAME.csv; a slip map also reads NAME_load.csv beside it), without running anything. The figure is drawn with the CSV's model (its header): lambda_2, lambda_3 and the title are those of the data. A CSV made with --cycle is redrawn only with --cycle and a file of the same content (its header's load-cycle sha256).
     #[arg(long, value_name = "FILE.csv", conflicts_with = "resume")]
     pub from: Option<PathBuf>,
     /// With --from: draw a partial CSV (an interrupted figure); the caption (and the title, with --title) then says "partial: k of n runs". Without it a partial CSV is refused.
@@ -184,6 +184,13 @@ pub(super) fn out_dir_and_style(args: &FigureArgs, redraw: &str) -> Result<(Path
 /// into it.
 pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     if args.name == "design" {
+        // The transient search is the paper's question, on its ellipse; a
+        // frontier records no cycle, so none may be given to draw it.
+        if let Some(c) = &args.model.cycle {
+            return Err(anyhow!(InputError(format!(
+                "--cycle {c}: figure design searches transients for the paper's elliptical cycle (docs/model.md section 10), not a polyline: drop --cycle"
+            ))));
+        }
         return super::design::figure(&args);
     }
     if args.name == "profile" {
