@@ -78,17 +78,11 @@ impl DesignPlot<'_> {
             .y_label_area_size(pen.px(4.0 * f))
             .build_cartesian_2d(0.5..kmax + 0.5, y0..y1)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc("vertices K of O → P1 → … → PK → A")
             .y_desc("λ")
             .x_labels(kmax as usize)
             .x_label_formatter(&|v| format!("{v:.0}"))
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
         for (k, (name, _)) in Self::REFS.into_iter().enumerate() {
@@ -146,19 +140,13 @@ impl DesignPlot<'_> {
             // multiples of pi and the gross-slip lines sit on a tick.
             .build_cartesian_2d(-xr / PI..xr / PI, -2.2..2.2)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc("x (force)")
             .y_desc("y (torque)")
             .x_labels(2 * (xr / PI).floor() as usize + 1)
             .y_labels(5)
             .x_label_formatter(&pi_label)
             .y_label_formatter(&pi_label)
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
         let diamond = vec![(2.0, 0.0), (0.0, 2.0), (-2.0, 0.0), (0.0, -2.0), (2.0, 0.0)];

@@ -374,15 +374,9 @@ impl DissipationPlot<'_> {
             .build_cartesian_2d(x0..x1, 0.0..y1)
             .map_err(s)?;
         let y_desc = axis.title(W_LABEL);
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc(self.x_desc())
             .y_desc(y_desc)
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * pen.text_pt()))
             .y_labels(axis.ticks)
             .y_label_formatter(&|v| axis.label(*v))
             .draw()
@@ -526,15 +520,9 @@ impl DissipationPlot<'_> {
         let mut chart = Self::frame(area, pen, "(b)")
             .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc(x_desc)
             .y_desc(W_LABEL)
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * pen.text_pt()))
             .y_label_formatter(&pow10_label)
             .draw()
             .map_err(s)?;

@@ -121,15 +121,9 @@ impl ProfilePlot<'_> {
             .y_label_area_size(pen.px(4.6 * f))
             .build_cartesian_2d(0.0..2.0, lo..hi)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc(if x_label { "θ / π" } else { "" })
             .y_desc(y)
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
         for (points, colour, pattern) in curves {

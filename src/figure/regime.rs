@@ -178,15 +178,9 @@ impl Figure for RegimePlot<'_> {
             .y_label_area_size(pen.px(4.0 * f))
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc("λ")
             .y_desc("φ / π")
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
 

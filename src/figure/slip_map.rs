@@ -314,15 +314,9 @@ impl Figure for SlipMapPlot<'_> {
             .y_label_area_size(pen.px(4.0 * f))
             .build_cartesian_2d(-1.0..1.0, 0.0..2.0)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc("θ")
             .y_desc(t_desc)
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .x_labels(5)
             .y_labels(9)
             .x_label_formatter(&pi_label)
@@ -372,15 +366,9 @@ impl Figure for SlipMapPlot<'_> {
             .y_label_area_size(pen.px(4.0 * f))
             .build_cartesian_2d(lo..hi, 0.0..2.0)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc("load")
             .y_desc(t_desc)
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .x_labels(5)
             .y_labels(9)
             .y_label_formatter(&pi_label)

@@ -9,6 +9,7 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
+use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -175,6 +176,19 @@ impl Pen {
     /// The style's tick labels.
     pub fn tick(&self) -> TextStyle<'static> {
         self.font(self.style.tick_pt())
+    }
+    /// A chart's axes as every figure draws them: no grid lines, the
+    /// style's fonts, thin black axis lines and short ticks; the caller
+    /// adds its descriptions and labels, then draws.
+    pub(crate) fn axes<'m, 'a, 'b, X: Ranged, Y: Ranged, DB: DrawingBackend>(
+        &self,
+        mesh: &'m mut MeshStyle<'a, 'b, X, Y, DB>,
+    ) -> &'m mut MeshStyle<'a, 'b, X, Y, DB> {
+        mesh.disable_mesh()
+            .axis_desc_style(self.text())
+            .label_style(self.tick())
+            .axis_style(self.line(BLACK, 1.0))
+            .set_all_tick_mark_size(self.px(0.35 * self.text_pt()))
     }
     /// The text size in points.
     pub fn text_pt(&self) -> f64 {
