@@ -270,20 +270,10 @@ const TINY: [&str; 4] = ["--nodes", "32", "--steps", "200"];
 fn figure_from_csv_redraws_the_same_plot_without_running() {
     let dir = scratch("fig3_from");
     let d = dir.to_str().unwrap();
-    ok(&[
-        &[
-            "figure",
-            "fig3",
-            "--out",
-            d,
-            "--lambda",
-            "4.5,5,6.5",
-            "--initial",
-            "OA,7,-7,optimal",
-        ][..],
-        &TINY,
-    ]
-    .concat());
+    // The list flags that made it, given again to redraw it: a CSV made
+    // under other flags is refused, naming the key that differs.
+    let grid = ["--lambda", "4.5,5,6.5", "--initial", "OA,7,-7,optimal"];
+    ok(&[&["figure", "fig3", "--out", d][..], &grid, &TINY].concat());
     let svg = std::fs::read_to_string(dir.join("fig3.svg")).unwrap();
     let again = scratch("fig3_from_again");
     let csv = dir.join("fig3.csv");
@@ -295,13 +285,8 @@ fn figure_from_csv_redraws_the_same_plot_without_running() {
             csv.to_str().unwrap(),
             "--out",
             again.to_str().unwrap(),
-            // The flags that made it: a CSV made under other flags is
-            // refused, naming the key that differs.
-            "--lambda",
-            "4.5,5,6.5",
-            "--initial",
-            "OA,7,-7,optimal",
         ][..],
+        &grid,
         &TINY,
     ]
     .concat());
