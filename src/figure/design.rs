@@ -70,12 +70,8 @@ impl DesignPlot<'_> {
             lambdas.clone().fold(f64::MAX, f64::min),
             lambdas.fold(f64::MIN, f64::max),
         );
-        let f = pen.text_pt();
-        let mut chart = ChartBuilder::on(area)
-            .margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.0 * f))
+        let mut chart = pen
+            .chart(area)
             .build_cartesian_2d(0.5..kmax + 0.5, y0..y1)
             .map_err(s)?;
         pen.axes(&mut chart.configure_mesh())
@@ -130,12 +126,8 @@ impl DesignPlot<'_> {
             .flat_map(|r| r.path.iter().map(|p| p.x().abs()))
             .fold(two_pi, f64::max)
             * 1.05;
-        let f = pen.text_pt();
-        let mut chart = ChartBuilder::on(area)
-            .margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.0 * f))
+        let mut chart = pen
+            .chart(area)
             // Coordinates in units of pi, so that the ticks fall on whole
             // multiples of pi and the gross-slip lines sit on a tick.
             .build_cartesian_2d(-xr / PI..xr / PI, -2.2..2.2)

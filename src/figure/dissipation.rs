@@ -340,11 +340,8 @@ impl DissipationPlot<'_> {
         letter: &str,
     ) -> ChartBuilder<'a, 'a, DB> {
         let f = pen.text_pt();
-        let mut b = ChartBuilder::on(area);
-        b.margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.6 * f));
+        let mut b = pen.chart(area);
+        b.y_label_area_size(pen.px(4.6 * f));
         if !letter.is_empty() {
             b.caption(letter, pen.text());
         }

@@ -105,12 +105,8 @@ impl Figure for MemoryPlot<'_> {
             .fold(0.0, f64::max)
             .max(0.1)
             * 1.05;
-        let f = pen.text_pt();
-        let mut chart = ChartBuilder::on(plots)
-            .margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.0 * f))
+        let mut chart = pen
+            .chart(plots)
             .build_cartesian_2d(x0..x1, 0.0..ymax)
             .map_err(s)?;
         pen.axes(&mut chart.configure_mesh())

@@ -170,12 +170,8 @@ impl Figure for RegimePlot<'_> {
         let x1 = map.cell_bounds(nl - 1, 0).0 .1;
         let y0 = map.cell_bounds(0, 0).1 .0 / PI;
         let y1 = map.cell_bounds(0, np - 1).1 .1 / PI;
-        let f = pen.text_pt();
-        let mut chart = ChartBuilder::on(plots)
-            .margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.0 * f))
+        let mut chart = pen
+            .chart(plots)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(s)?;
         pen.axes(&mut chart.configure_mesh())

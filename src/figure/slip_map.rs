@@ -302,16 +302,12 @@ impl Figure for SlipMapPlot<'_> {
         let map = self.map;
         let origin = self.origin.resolve(map);
         let (left, right) = plots.split_horizontally(plots.dim_in_pixel().0 * 3 / 5);
-        let f = pen.text_pt();
         let t_desc = self.time_desc();
 
         // (a) the slip map: theta across, time up, in units of pi, from 0.
-        let mut chart = ChartBuilder::on(&left)
+        let mut chart = pen
+            .chart(&left)
             .caption("(a)", pen.text())
-            .margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.0 * f))
             .build_cartesian_2d(-1.0..1.0, 0.0..2.0)
             .map_err(s)?;
         pen.axes(&mut chart.configure_mesh())
@@ -358,12 +354,9 @@ impl Figure for SlipMapPlot<'_> {
         let lo = load.iter().map(|p| p.1.min(p.2)).fold(f64::MAX, f64::min);
         let hi = load.iter().map(|p| p.1.max(p.2)).fold(f64::MIN, f64::max);
         let (lo, hi) = padded(lo, hi);
-        let mut chart = ChartBuilder::on(&right)
+        let mut chart = pen
+            .chart(&right)
             .caption("(b)", pen.text())
-            .margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.0 * f))
             .build_cartesian_2d(lo..hi, 0.0..2.0)
             .map_err(s)?;
         pen.axes(&mut chart.configure_mesh())

@@ -177,6 +177,23 @@ impl Pen {
     pub fn tick(&self) -> TextStyle<'static> {
         self.font(self.style.tick_pt())
     }
+    /// A chart on `area` laid out as every figure's: small margins, room
+    /// on the right for the last tick label, and label areas for the
+    /// style's fonts (a caller may widen them).
+    pub(crate) fn chart<'a, 'b, DB: DrawingBackend>(
+        &self,
+        area: &'a DrawingArea<DB, Shift>,
+    ) -> ChartBuilder<'a, 'b, DB> {
+        let f = self.text_pt();
+        let mut chart = ChartBuilder::on(area);
+        chart
+            .margin(self.px(0.8 * f))
+            .margin_right(self.px(1.6 * f))
+            .x_label_area_size(self.px(2.9 * f))
+            .y_label_area_size(self.px(4.0 * f));
+        chart
+    }
+
     /// A chart's axes as every figure draws them: no grid lines, the
     /// style's fonts, thin black axis lines and short ticks; the caller
     /// adds its descriptions and labels, then draws.
