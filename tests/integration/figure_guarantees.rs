@@ -241,3 +241,41 @@ fn a_slip_map_of_another_case_says_so_in_its_caption() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A sweep figure drawn over another grid than its preset's says what its
+/// title then gets wrong: fig6's λ = 5.1 and fig3's φ = 0, and the
+/// transients drawn.
+#[test]
+fn a_sweep_figure_of_another_grid_says_so_in_its_caption() {
+    let dir = scratch("sweep-grid");
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let cases: [(&str, &[&str], &[&str]); 2] = [
+        (
+            "fig6",
+            &["--lambda", "5.5", "--phi", "0,pi/2", "--initial", "OA"],
+            &["λ = 5.5", "transient OA"],
+        ),
+        (
+            "fig3",
+            &[
+                "--lambda",
+                "4.5,5.5",
+                "--phi",
+                "pi/2",
+                "--initial",
+                "OA,7,-7",
+            ],
+            &["φ = 0.5π", "transients OA and 7,-7"],
+        ),
+    ];
+    for (name, grid, notes) in cases {
+        let out = s(&dir.join(name));
+        ok(&[&["figure", name, "--out", &out][..], grid, &COARSE].concat());
+        let caption =
+            std::fs::read_to_string(dir.join(name).join(format!("{name}.caption.txt"))).unwrap();
+        for note in notes {
+            assert!(caption.contains(note), "{caption} lacks {note}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -171,6 +171,42 @@ pub(super) fn case_note(
     v
 }
 
+/// Where the grid of a sweep figure (`spec`, from the list flags) differs
+/// from its preset's (`preset`), whose title may name it (fig6: λ = 5.1,
+/// 25 transients): the transients drawn, and `lambda` or `phi` when they
+/// are not on the horizontal `axis` (where the ticks show them).
+pub(super) fn grid_note(preset: &SweepLists, spec: &SweepSpec, axis: Axis) -> Vec<String> {
+    let range = |v: &[f64], unit: f64| -> String {
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        let [lo, hi] = [lo / unit, hi / unit].map(fmt_number);
+        if lo == hi {
+            lo
+        } else {
+            format!("{lo} to {hi}")
+        }
+    };
+    let mut v = Vec::new();
+    if axis != Axis::Lambda && spec.load_factors() != preset.load_factors {
+        v.push(format!("λ = {}", range(spec.load_factors(), 1.0)));
+    }
+    let phases = spec.phases();
+    if axis != Axis::Phi && spec.polyline().is_none() && phases != preset.phases {
+        v.push(format!("φ = {}π", range(phases, std::f64::consts::PI)));
+    }
+    let initials = spec.initials();
+    if initials != preset.initials {
+        let names: Vec<String> = initials.iter().map(|i| i.name()).collect();
+        v.push(match names.len() {
+            1 => format!("transient {}", names[0]),
+            2..=4 => format!("transients {}", names.join(" and ")),
+            n => format!("{n} transients"),
+        });
+    }
+    v
+}
+
 /// A sweep figure's points, and how much of its table they are.
 type Drawn = (Vec<SweepPoint>, Option<Partial>);
 

@@ -25,8 +25,8 @@ use shakedown::analysis::memory::{
 };
 use shakedown::analysis::regime::{RegimeCell, RegimeMap};
 use shakedown::analysis::slip_map::{slip_map, SlipMap, SlipMapError};
-use shakedown::analysis::sweep::Axis;
 use shakedown::analysis::sweep::SweepSpec;
+use shakedown::analysis::sweep::{Axis, SweepLists};
 use shakedown::figure::data::parse_sweep_csv;
 use shakedown::figure::dissipation::memory_window;
 use shakedown::figure::FigureError;
@@ -357,6 +357,7 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
     match fig.kind {
         FigureKind::Dissipation => {
             let spec = sweep_spec(&args, &model, &preset)?;
+            notes.splice(0..0, grid_note(&preset.sweep, &spec, fig.axis));
             let (points, partial) = match sweep_points(&args, &spec, &file(".csv"), replace)? {
                 Ok(p) => p,
                 Err(code) => return Ok(code),
@@ -463,6 +464,7 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
         }
         FigureKind::Memory => {
             let spec = sweep_spec(&args, &model, &preset)?;
+            notes.splice(0..0, grid_note(&preset.sweep, &spec, fig.axis));
             let points = match &args.from {
                 Some(f) => from_memory_csv(f, &spec)?,
                 None => {
