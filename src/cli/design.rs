@@ -145,6 +145,20 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
             ))));
         }
     }
+    // The search is the paper's question, on its ellipse: a polyline has
+    // no phi, and the search needs one.
+    let polyline = match (args.case.given("cycle"), args.case.preset()?) {
+        (Some(c), _) => Some(format!("--cycle {c}")),
+        (None, Some(p)) if p.params.cycle.is_some() => {
+            Some(format!("--preset {}: its cycle", p.name))
+        }
+        _ => None,
+    };
+    if let Some(what) = polyline {
+        return Err(anyhow!(InputError(format!(
+            "{what}: design searches transients for the paper's elliptical cycle (docs/model.md section 10), not a polyline: drop it"
+        ))));
+    }
     let seed: u64 = number("seed", &args.seed, "0 to 18446744073709551615")?;
     let family = family(&args.family)?;
     let frontier_mode = args.frontier;

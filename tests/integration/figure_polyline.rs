@@ -278,3 +278,17 @@ fn the_design_figure_refuses_a_polyline() {
     }
     assert!(!Path::new(&out).exists());
 }
+
+/// `design` itself refuses a polyline, from the flag or from a preset.
+#[test]
+fn design_refuses_a_polyline() {
+    let t = Scratch::new("poly-design-run");
+    refused(
+        &["design", "--cycle", &t.square, "--lambda", "3"],
+        &["--cycle", "square.csv", "elliptical"],
+    );
+    refused(
+        &["design", "--preset", "biharmonic", "--lambda", "3"],
+        &["--preset biharmonic", "elliptical"],
+    );
+}
