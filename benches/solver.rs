@@ -184,8 +184,7 @@ fn asymptotic_shakedown(cr: &mut Criterion) {
     ] {
         group.bench_function(name, |b| {
             b.iter(|| {
-                let mut options = StepOptions::default();
-                options.convergence.safe_state = safe_state;
+                let options = StepOptions::default().with_safe_state(safe_state);
                 let mut s = Stepper::new(
                     Material::paper(),
                     Discretisation::default(),

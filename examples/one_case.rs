@@ -10,13 +10,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(text) => text.parse()?,
         None => 5.5,
     };
+    // Every setting is checked where the case is built, against the
+    // ranges of `shakedown::model::ranges`.
     let case = Case::builder()
         .load_factor(load_factor)
         .initial(Initial::Direct)
+        .max_cycles(500)
         .build()?;
     let outcome = case.run()?;
 
-    println!("lambda     {load_factor}");
+    let disc = case.disc();
+    println!("lambda     {}", case.cycle().load_factor());
+    println!(
+        "model      N = {}, {} increments a cycle, at most {} cycles",
+        disc.nodes(),
+        disc.steps_per_cycle(),
+        case.options().convergence().max_cycles()
+    );
     println!("state      {}", outcome.state());
     println!("how        {}", outcome.approach());
     println!("W          {:.6e}", outcome.dissipation);
@@ -24,6 +34,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("cycles     {}", outcome.cycles);
     if let Verdict::GrossSlip(end) = outcome.verdict {
         println!("ended at   {}", end.load);
+    }
+    // A setting out of range is refused with the range it breaks.
+    if let Err(e) = Case::builder().nodes(127).build() {
+        println!("refused    {e}");
     }
     Ok(())
 }

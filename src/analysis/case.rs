@@ -10,9 +10,9 @@
 //! // The defaults are the paper's parameters at point B (lambda = 7, phi = 0)
 //! // with the direct transient OA.
 //! let case = Case::from_params(&CaseParams::default()).unwrap();
-//! assert_eq!(case.initial, Initial::Direct);
-//! assert_eq!(case.cycle.load_factor(), 7.0);
-//! assert_eq!(case.disc.nodes(), 128);
+//! assert_eq!(*case.initial(), Initial::Direct);
+//! assert_eq!(case.cycle().load_factor(), 7.0);
+//! assert_eq!(case.disc().nodes(), 128);
 //!
 //! // Validation reports the first bad parameter.
 //! let odd = CaseParams { nodes: 127, ..CaseParams::default() };
@@ -42,9 +42,20 @@ pub enum CaseError {
     /// The initial-path name does not parse.
     #[error(transparent)]
     Path(#[from] PathError),
-    /// The cycle cap `max_cycles` is outside `1..=100000` (the value given).
-    #[error("max-cycles = {0} is out of range: expected 1 to 100000")]
-    MaxCycles(usize),
+    /// A prescribed slip ([`Initial::Slip`]) without one finite value per
+    /// interface node.
+    #[error(
+        "initial slip '{name}' has {len} values: expected {nodes} finite values, one per node"
+    )]
+    Slip {
+        /// The slip's name.
+        name: String,
+        /// The values it has (or, when it has `nodes`, the position from 1
+        /// of the first that is not finite).
+        len: usize,
+        /// The case's interface nodes `N`.
+        nodes: usize,
+    },
     /// The initial path is `optimal` and the `lambda_2` linear programme
     /// that defines it failed (model.md sections 7.3 and 7.4).
     #[error("initial path 'optimal': {0}")]
@@ -87,7 +98,8 @@ pub struct CaseParams {
     /// Increments per cycle (16 to 100000). Default 400.
     pub steps: usize,
     /// Cycles run at most before the run is reported not converged
-    /// (1 to 100000; model.md section 6.1). Default 2000.
+    /// ([`crate::model::ranges::MAX_CYCLES`]; model.md section 6.1).
+    /// Default 2000.
     pub max_cycles: usize,
     /// Prove shakedown by a safe state before the first cycle without slip
     /// (model.md section 6.4). Default on; off, asymptotic shakedown is run
@@ -119,21 +131,18 @@ impl Default for CaseParams {
 
 /// A validated case: everything [`Case::stepper`] needs to start a run.
 ///
-/// With `optimal` requested, [`Case::initial`] already holds the resolved
-/// slip ([`Initial::Slip`]), never the unresolved [`Initial::Optimal`].
+/// Its parts are read through getters and changed only through setters
+/// that check what ties them together (a polyline cycle's vertex count
+/// divides the increments per cycle; the initial path is resolved).
+/// [`Case::initial`] never holds the unresolved [`Initial::Optimal`]: it
+/// is resolved to its slip ([`Initial::Slip`]) where it is given.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Case {
-    /// Friction and elastic constants.
-    pub material: Material,
-    /// The steady cycle (`lambda`, `phi`, `psi`, centre `A`).
-    pub cycle: Cycle,
-    /// Nodes and increments per cycle.
-    pub disc: Discretisation,
-    /// The initial path, resolved.
-    pub initial: Initial,
-    /// The stepper's options, with the cycle cap from
-    /// [`CaseParams::max_cycles`] and the rest at their defaults.
-    pub options: StepOptions,
+    material: Material,
+    cycle: Cycle,
+    disc: Discretisation,
+    initial: Initial,
+    options: StepOptions,
 }
 
 impl Case {
@@ -144,10 +153,13 @@ impl Case {
     /// # Errors
     ///
     /// [`CaseError::Param`] for an invalid material ([`Material::new`]),
-    /// cycle ([`Cycle::new`]) or discretisation ([`Discretisation::new`]);
-    /// [`CaseError::MaxCycles`] unless `1 <= max_cycles <= 100000`;
-    /// [`CaseError::Path`] for an initial path that does not parse; and
-    /// [`CaseError::Optimal`] when the `optimal` slip cannot be computed.
+    /// cycle ([`Cycle::new`]), discretisation ([`Discretisation::new`]) or
+    /// cycle cap (outside [`crate::model::ranges::MAX_CYCLES`]);
+    /// [`CaseError::Path`] for a point `a,b` that [`Initial::parse`] refuses
+    /// or a custom path that [`Initial::custom_for`] refuses;
+    /// [`CaseError::Slip`] for a prescribed slip without one finite value
+    /// per node; and [`CaseError::Optimal`] when the `optimal` slip cannot
+    /// be computed.
     /// They are checked in that order, and the first failure is returned.
     pub fn from_params(p: &CaseParams) -> Result<Case, CaseError> {
         let material = Material::new(p.friction, p.poisson, p.plane)?;
@@ -158,16 +170,11 @@ impl Case {
         };
         let disc = Discretisation::new(p.nodes, p.steps)?;
         cycle.check_steps(p.steps)?;
-        if !(1..=100_000).contains(&p.max_cycles) {
-            return Err(CaseError::MaxCycles(p.max_cycles));
-        }
-        let mut options = StepOptions::default();
-        options.convergence.max_cycles = p.max_cycles;
-        options.convergence.safe_state = p.safe_state;
-        let initial = match &p.initial {
-            Initial::Optimal => crate::analysis::limit::optimal_initial(&material, &cycle, &disc)?,
-            other => other.clone(),
-        };
+        let options = StepOptions::builder()
+            .max_cycles(p.max_cycles)
+            .safe_state(p.safe_state)
+            .build()?;
+        let initial = resolve(&p.initial, &material, &cycle, &disc)?;
         Ok(Case {
             material,
             cycle,
@@ -188,6 +195,93 @@ impl Case {
             self.cycle.clone(),
             self.options,
         )
+    }
+
+    /// Friction and elastic constants.
+    pub fn material(&self) -> Material {
+        self.material
+    }
+    /// The steady cycle (`lambda`, `phi`, `psi`, centre `A`, or a polyline).
+    pub fn cycle(&self) -> &Cycle {
+        &self.cycle
+    }
+    /// Nodes and increments per cycle.
+    pub fn disc(&self) -> Discretisation {
+        self.disc
+    }
+    /// The initial path, resolved (never [`Initial::Optimal`]).
+    pub fn initial(&self) -> &Initial {
+        &self.initial
+    }
+    /// The stepper's options: the cycle cap and safe-state search of
+    /// [`CaseParams`], the rest at their defaults unless
+    /// [`Case::with_options`] set them.
+    pub fn options(&self) -> StepOptions {
+        self.options
+    }
+
+    /// Another cycle for this case (e.g. another `lambda`).
+    ///
+    /// # Errors
+    ///
+    /// [`CaseError::Param`] when a polyline cycle's vertex count does not
+    /// divide the increments per cycle ([`Cycle::check_steps`]); the case
+    /// is then unchanged.
+    pub fn set_cycle(&mut self, cycle: Cycle) -> Result<(), CaseError> {
+        cycle.check_steps(self.disc.steps_per_cycle())?;
+        self.cycle = cycle;
+        Ok(())
+    }
+
+    /// Another initial path for this case, checked and, for
+    /// [`Initial::Optimal`], resolved as in [`Case::from_params`].
+    ///
+    /// # Errors
+    ///
+    /// [`CaseError::Path`], [`CaseError::Slip`] or [`CaseError::Optimal`]
+    /// as in [`Case::from_params`]; the case is then unchanged.
+    pub fn set_initial(&mut self, initial: Initial) -> Result<(), CaseError> {
+        self.initial = resolve(&initial, &self.material, &self.cycle, &self.disc)?;
+        Ok(())
+    }
+
+    /// This case with other stepper options (already checked by
+    /// [`StepOptions::builder`]).
+    pub fn with_options(self, options: StepOptions) -> Case {
+        Case { options, ..self }
+    }
+}
+
+/// `initial`, checked for this case (the variants of [`Initial`] can be
+/// written out by hand, past [`Initial::parse`] and [`Initial::custom_for`]),
+/// with [`Initial::Optimal`] computed for this material, cycle and
+/// discretisation.
+fn resolve(
+    initial: &Initial,
+    material: &Material,
+    cycle: &Cycle,
+    disc: &Discretisation,
+) -> Result<Initial, CaseError> {
+    match initial {
+        Initial::Optimal => Ok(crate::analysis::limit::optimal_initial(
+            material, cycle, disc,
+        )?),
+        Initial::Direct => Ok(Initial::Direct),
+        Initial::Via { a, b } => Ok(Initial::parse(&format!("{a},{b}"))?),
+        Initial::Custom(points) => Ok(Initial::custom_for(points.clone(), material)?),
+        Initial::Slip { name, slip } => {
+            let nodes = disc.nodes();
+            let len = match slip.iter().position(|g| !g.is_finite()) {
+                _ if slip.len() != nodes => slip.len(),
+                Some(k) => k + 1,
+                None => return Ok(initial.clone()),
+            };
+            Err(CaseError::Slip {
+                name: name.clone(),
+                len,
+                nodes,
+            })
+        }
     }
 }
 
@@ -308,7 +402,7 @@ impl CaseBuilder {
         self
     }
     /// Cycles run at most before the run is reported not converged
-    /// (1 to 100000).
+    /// ([`crate::model::ranges::MAX_CYCLES`]).
     pub fn max_cycles(mut self, max_cycles: usize) -> Self {
         self.params.max_cycles = max_cycles;
         self
@@ -354,4 +448,98 @@ pub fn resolve_initial(
             .map_err(CaseError::Optimal);
     }
     Ok(Initial::parse(name)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn small() -> Case {
+        Case::builder().nodes(16).steps(48).build().unwrap()
+    }
+
+    /// A case changes only through setters that keep what ties its parts
+    /// together: a polyline's vertex count divides the increments per
+    /// cycle, and the initial path is resolved.
+    #[test]
+    fn the_setters_keep_the_case_valid() {
+        let mut case = small();
+        let regular = |k: usize| {
+            let v = (0..k)
+                .map(|i| {
+                    let t = 2.0 * PI * i as f64 / k as f64;
+                    LoadPoint::new(t.cos(), t.sin())
+                })
+                .collect();
+            Polyline::new("test", v).unwrap()
+        };
+        let center = case.cycle().center();
+        // 48 increments: 3 vertices divide them, 5 do not.
+        let good = Cycle::polyline(center, 2.0, regular(3)).unwrap();
+        let bad = Cycle::polyline(center, 2.0, regular(5)).unwrap();
+        let before = case.clone();
+        assert!(matches!(
+            case.set_cycle(bad),
+            Err(CaseError::Param(ParamError::StepsPerChord { .. }))
+        ));
+        assert_eq!(case, before, "a refused cycle leaves the case as it was");
+        case.set_cycle(good.clone()).unwrap();
+        assert_eq!(*case.cycle(), good);
+
+        let mut case = small();
+        case.set_initial(Initial::Optimal).unwrap();
+        assert!(
+            matches!(case.initial(), Initial::Slip { name, slip } if name == "optimal" && slip.len() == 16),
+            "{:?}",
+            case.initial()
+        );
+        let via = Initial::Via { a: 7, b: -7 };
+        case.set_initial(via.clone()).unwrap();
+        assert_eq!(*case.initial(), via);
+        // Paths written out by hand are checked as if they were parsed.
+        let before = case.clone();
+        let slip = |values: Vec<f64>| Initial::Slip {
+            name: "hand".into(),
+            slip: std::sync::Arc::new(values),
+        };
+        for bad in [
+            Initial::Via { a: 3, b: 3 },
+            Initial::Custom(vec![LoadPoint::new(0.0, 2.0 * PI)]),
+            Initial::Custom(Vec::new()),
+            slip(vec![0.0; 15]),
+            slip(vec![f64::NAN; 16]),
+        ] {
+            assert!(case.set_initial(bad.clone()).is_err(), "{bad:?}");
+            assert_eq!(case, before);
+        }
+        case.set_initial(slip(vec![0.0; 16])).unwrap();
+    }
+
+    /// The cycle cap is checked against its range, as a parameter named
+    /// as the command line spells it.
+    #[test]
+    fn the_cycle_cap_is_checked_against_its_range() {
+        let m = crate::model::ranges::MAX_CYCLES;
+        for bad in [m.min - 1, m.max + 1] {
+            let e = Case::builder()
+                .nodes(16)
+                .max_cycles(bad)
+                .build()
+                .unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    CaseError::Param(ParamError::BadCount {
+                        name: "max-cycles",
+                        ..
+                    })
+                ),
+                "{e}"
+            );
+        }
+        for good in [m.min, m.max] {
+            let case = Case::builder().nodes(16).max_cycles(good).build().unwrap();
+            assert_eq!(case.options().convergence().max_cycles(), good);
+        }
+    }
 }

@@ -157,13 +157,19 @@ mod tests {
         .unwrap();
         let cycle = Cycle::new(s.center(), 5.0, s.slope(), 0.0).unwrap();
         let limit = limit_at(&s, 0.0, DEFAULT_SAMPLES).unwrap();
-        let solved =
-            resolve_initial(&Initial::Optimal, &case.material, &cycle, &case.disc, None).unwrap();
+        let solved = resolve_initial(
+            &Initial::Optimal,
+            &case.material(),
+            &cycle,
+            &case.disc(),
+            None,
+        )
+        .unwrap();
         let known = resolve_initial(
             &Initial::Optimal,
-            &case.material,
+            &case.material(),
             &cycle,
-            &case.disc,
+            &case.disc(),
             Some(&limit),
         )
         .unwrap();
@@ -178,9 +184,9 @@ mod tests {
                 assert!((a - b).abs() < 1e-9);
             }
         }
-        let oa = case.initial.clone();
+        let oa = case.initial().clone();
         assert_eq!(
-            resolve_initial(&oa, &case.material, &cycle, &case.disc, None).unwrap(),
+            resolve_initial(&oa, &case.material(), &cycle, &case.disc(), None).unwrap(),
             oa
         );
     }

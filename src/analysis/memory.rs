@@ -183,8 +183,7 @@ pub fn memory_runs(
                     // verdict, so asymptotic shakedown is run out to its
                     // first cycle without slip: a safe state bounds the
                     // slip still to come but not where it happens.
-                    let mut options = spec.options();
-                    options.convergence.safe_state = false;
+                    let options = spec.options().with_safe_state(false);
                     let mut s = Stepper::from_center(contact.clone(), cycle, spec.disc(), options);
                     let mut after = SlipTally::new(s.contact().slip());
                     let outcome = loop {

@@ -99,7 +99,7 @@ fn map_cycle(case: &Case, exact: bool) -> Result<SlipMap, SlipMapError> {
     s.set_straight_runs(false);
     s.set_pause_at_events(exact);
     let start = s.contact().load();
-    let mut rows = Vec::with_capacity(case.disc.steps_per_cycle());
+    let mut rows = Vec::with_capacity(case.disc().steps_per_cycle());
     let mut t0 = s.time().unwrap_or(0.0);
     // A paused step leaves the contact at the event with the slip set
     // decided there, for the sub-segment that follows: each row has the
@@ -141,9 +141,9 @@ fn map_cycle(case: &Case, exact: bool) -> Result<SlipMap, SlipMapError> {
         return Err(SlipMapError::NoSteadyCycle { state: end.state() });
     }
     Ok(SlipMap {
-        material: case.material,
-        cycle: case.cycle.clone(),
-        nodes: case.disc.nodes(),
+        material: case.material(),
+        cycle: case.cycle().clone(),
+        nodes: case.disc().nodes(),
         outcome,
         start,
         rows,
@@ -229,7 +229,7 @@ mod tests {
         let case = point_c();
         let exact = slip_map(&case).unwrap();
         let grid = map_cycle(&case, false).unwrap();
-        let steps = case.disc.steps_per_cycle();
+        let steps = case.disc().steps_per_cycle();
         assert_eq!(grid.rows.len(), steps);
         assert!(exact.rows.len() > steps, "no event inside an increment");
         // The rows tile the cycle, in order.

@@ -422,7 +422,7 @@ pub fn stream_sweep(
         &meta,
         CSV_HEADER,
         keys,
-        sweep_row_key_capped(spec.options().convergence.max_cycles as u64),
+        sweep_row_key_capped(spec.options().convergence().max_cycles() as u64),
     )?;
     let todo = &jobs[out.kept.min(jobs.len())..];
     if out.kept > 0 {

@@ -24,15 +24,17 @@ use shakedown::stepping::steady::{Approach, SteadyState};
 use shakedown::stepping::Outcome;
 
 use super::batch::{ctrl_c, lock_file_output, print_stdout, refuse_input_as_output, write_file};
-use super::{CaseArgs, InputError};
+use super::{values, CaseArgs, InputError};
+use shakedown::model::ranges;
 
 /// The flags of `shakedown design`.
 #[derive(Debug, Args)]
 pub struct DesignArgs {
     #[command(flatten)]
     pub case: CaseArgs,
-    /// Vertices K of the path between O and A (1..16); with --frontier, the largest K (default 8).
-    #[arg(long, value_name = "K", allow_hyphen_values = true)]
+    // The helps quote the ranges (`model::ranges`, the one place they are written).
+    #[arg(long, value_name = "K", allow_hyphen_values = true, value_parser = values::count(ranges::VERTICES),
+          help = format!("Vertices K of the path between O and A ({}); with --frontier, the largest K (default 8)", ranges::VERTICES.expected))]
     pub vertices: Option<String>,
     /// Seed of the search's random draws (the same seed gives the same result, whatever the thread count).
     #[arg(
@@ -46,13 +48,13 @@ pub struct DesignArgs {
     #[arg(long, value_name = "free|decaying", default_value = "free")]
     pub family: String,
     /// Particles of the swarm (default 24; 16 with --frontier).
-    #[arg(long, value_name = "P", allow_hyphen_values = true)]
+    #[arg(long, value_name = "P", allow_hyphen_values = true, value_parser = values::count(ranges::PARTICLES))]
     pub particles: Option<String>,
     /// Swarm generations after the first (default 20; 8 per search with --frontier).
-    #[arg(long, value_name = "I", allow_hyphen_values = true)]
+    #[arg(long, value_name = "I", allow_hyphen_values = true, value_parser = values::count(ranges::ITERATIONS))]
     pub iterations: Option<String>,
-    /// How far inside the gross-slip line |y| = 2 pi a vertex must stay (0.001 to 3; default 0.001). A wider gap shows how much that line limits the frontier (docs/model.md section 10).
-    #[arg(long, value_name = "G", allow_hyphen_values = true)]
+    #[arg(long, value_name = "G", allow_hyphen_values = true, value_parser = values::number(ranges::GROSS_GAP),
+          help = format!("How far inside the gross-slip line |y| = 2 pi a vertex must stay ({}; default {}). A wider gap shows how much that line limits the frontier (docs/model.md section 10)", ranges::GROSS_GAP.expected, ranges::GROSS_GAP.low))]
     pub gross_gap: Option<String>,
     /// The highest lambda at which a found path shakes down, for K = 1..--vertices and both families, beside lambda_1, the best of the 25 and lambda_2 (CSV).
     #[arg(long)]
@@ -81,12 +83,13 @@ fn gross_gap(text: Option<&str>) -> Result<f64> {
     let Some(text) = text else {
         return Ok(GROSS_SLIP_GAP);
     };
-    match text.trim().parse::<f64>() {
-        Ok(g) if (GROSS_SLIP_GAP..=3.0).contains(&g) => Ok(g),
-        _ => Err(anyhow!(InputError(format!(
-            "--gross-gap {text}: expected a number from 0.001 to 3"
-        )))),
-    }
+    // Checked against its range while the command line was parsed.
+    shakedown::io::parse::parse_number(text).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--gross-gap {text}: {e}: expected {}",
+            ranges::GROSS_GAP.expected
+        )))
+    })
 }
 
 fn family(text: &str) -> Result<Family> {
@@ -162,41 +165,25 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
     let seed: u64 = number("seed", &args.seed, "0 to 18446744073709551615")?;
     let family = family(&args.family)?;
     let frontier_mode = args.frontier;
+    // The counts were checked against their ranges while the command line
+    // was parsed (`values::count`).
     let particles: usize = match &args.particles {
-        Some(t) => number("particles", t, "2 to 1000")?,
+        Some(t) => number("particles", t, ranges::PARTICLES.expected)?,
         None if frontier_mode => 16,
         None => 24,
     };
-    if !(2..=1000).contains(&particles) {
-        return Err(anyhow!(InputError(format!(
-            "--particles {particles}: out of range: expected 2 to 1000"
-        ))));
-    }
     let iterations: u64 = match &args.iterations {
-        Some(t) => number("iterations", t, "0 to 10000")?,
+        Some(t) => number("iterations", t, ranges::ITERATIONS.expected)?,
         None if frontier_mode => 8,
         None => 20,
     };
-    if iterations > 10_000 {
-        return Err(anyhow!(InputError(format!(
-            "--iterations {iterations}: out of range: expected 0 to 10000"
-        ))));
-    }
     let vertices: usize = match &args.vertices {
-        Some(t) => number("vertices", t, "1 to 16")?,
+        Some(t) => number("vertices", t, ranges::VERTICES.expected)?,
         None if frontier_mode => 8,
         None => 2,
     };
-    if !(1..=16).contains(&vertices) {
-        return Err(anyhow!(InputError(format!(
-            "--vertices {vertices}: out of range: expected 1 to 16"
-        ))));
-    }
-    let budget = Budget {
-        particles,
-        iterations,
-        seed,
-    };
+    let budget =
+        Budget::new(particles, iterations, seed).map_err(|e| anyhow!(InputError(e.to_string())))?;
     let gap = gross_gap(args.gross_gap.as_deref())?;
     if frontier_mode {
         if let Some(v) = args.case.given("lambda") {
@@ -240,8 +227,9 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
     let shape = Shape::new(
         family,
         vertices,
-        Region::with_gross_gap(&case.material, gap),
-        case.cycle.center(),
+        Region::with_gross_gap(&case.material(), gap)
+            .map_err(|e| anyhow!(InputError(format!("--gross-gap: {e}"))))?,
+        case.cycle().center(),
     )
     .map_err(design_error)?;
     let stop = ctrl_c()?;
@@ -334,19 +322,19 @@ fn to_json(
     json!({
         "initial_path": text,
         "state": rerun.state(),
-        "lambda": case.cycle.load_factor(),
+        "lambda": case.cycle().load_factor(),
         "dissipation": rerun.dissipation,
         "approach": rerun.approach(),
         "cycles": rerun.cycles,
         "certificate": rerun.certificate(),
         "reproduced": reproduced,
         "path": path,
-        "family": shape.family,
-        "vertices": shape.vertices,
-        "region": shape.region,
-        "seed": budget.seed,
-        "particles": budget.particles,
-        "iterations": budget.iterations,
+        "family": shape.family(),
+        "vertices": shape.vertices(),
+        "region": shape.region(),
+        "seed": budget.seed(),
+        "particles": budget.particles(),
+        "iterations": budget.iterations(),
         "evaluations": evaluations,
         "interrupted": interrupted,
         "threads": rayon::current_num_threads(),
@@ -385,29 +373,30 @@ fn readable(
     let _ = writeln!(
         o,
         "search    {} family, K = {}, seed {}: {} candidates run by the engine ({} particles, up to {} generations, {} threads){}",
-        shape.family.as_str(),
-        shape.vertices,
-        budget.seed,
+        shape.family().as_str(),
+        shape.vertices(),
+        budget.seed(),
         evaluations,
-        budget.particles,
-        budget.iterations + 1,
+        budget.particles(),
+        budget.iterations() + 1,
         rayon::current_num_threads(),
         if interrupted { "; stopped by Ctrl-C" } else { "" }
     );
     let _ = writeln!(
         o,
         "region    |x| <= {:.4}, |y| <= {:.4} (inside gross slip |y| = 2 pi and separation)",
-        shape.region.x_max, shape.region.y_max
+        shape.region().x_max(),
+        shape.region().y_max()
     );
     let _ = writeln!(
         o,
         "case      lambda = {}  phi = {}  A = ({:.4}, {:.4})  N = {}, {} increments/cycle",
-        case.cycle.load_factor(),
-        case.cycle.phase(),
-        case.cycle.center().x(),
-        case.cycle.center().y(),
-        case.disc.nodes(),
-        case.disc.steps_per_cycle()
+        case.cycle().load_factor(),
+        case.cycle().phase(),
+        case.cycle().center().x(),
+        case.cycle().center().y(),
+        case.disc().nodes(),
+        case.disc().steps_per_cycle()
     );
     let _ = writeln!(o, "path      O");
     for p in &best.path {
@@ -416,8 +405,8 @@ fn readable(
     let _ = writeln!(
         o,
         "       -> A = ({:.6}, {:.6})",
-        case.cycle.center().x(),
-        case.cycle.center().y()
+        case.cycle().center().x(),
+        case.cycle().center().y()
     );
     let how = match rerun.approach() {
         Approach::NoSlipCycle => "a whole cycle without slip".to_string(),
@@ -506,7 +495,8 @@ pub fn frontier_table(
     gap: f64,
     families: &[Family],
 ) -> Result<(String, bool)> {
-    let region = Region::with_gross_gap(&case.material, gap);
+    let region = Region::with_gross_gap(&case.material(), gap)
+        .map_err(|e| anyhow!(InputError(format!("--gross-gap: {e}"))))?;
     let runner = Runner::new(case);
     let stop = ctrl_c()?;
     let b = bar(None);
@@ -534,11 +524,11 @@ pub fn frontier_table(
     meta.set("lambda", "searched");
     meta.push(
         "region",
-        format!("|x| <= {}, |y| <= {}", region.x_max, region.y_max),
+        format!("|x| <= {}, |y| <= {}", region.x_max(), region.y_max()),
     );
-    meta.push("seed", budget.seed)
-        .push("particles", budget.particles)
-        .push("iterations", budget.iterations)
+    meta.push("seed", budget.seed())
+        .push("particles", budget.particles())
+        .push("iterations", budget.iterations())
         .push("vertices", vertices)
         .push("threads", rayon::current_num_threads());
     meta.push("best_of_25", &refs.best_name);
@@ -609,11 +599,7 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
             let (csv, interrupted) = frontier_table(
                 &case,
                 8,
-                Budget {
-                    particles: 16,
-                    iterations: 8,
-                    seed: 1,
-                },
+                Budget::new(16, 8, 1)?,
                 GROSS_SLIP_GAP,
                 &[Family::Free, Family::Decaying],
             )?;

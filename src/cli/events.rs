@@ -166,7 +166,7 @@ pub fn events(args: EventsArgs) -> Result<ExitCode> {
         .filter(|r| kind.is_none_or(|k| r.kind == k))
         .filter(|r| r.nodes >= args.min_nodes)
         .collect();
-    let mut meta = case_metadata("events", &case, &case.initial.name());
+    let mut meta = case_metadata("events", &case, &case.initial().name());
     if let Some(k) = kind {
         meta.push("kind", k);
     }

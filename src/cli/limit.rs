@@ -24,7 +24,7 @@ pub struct LimitArgs {
     #[command(flatten)]
     pub case: CaseArgs,
     /// Load points on an elliptical cycle (phi != 0); a straight line uses its two ends.
-    #[arg(long, value_name = "M")]
+    #[arg(long, value_name = "M", value_parser = super::values::count(shakedown::model::ranges::SAMPLES))]
     pub samples: Option<String>,
     /// Write the optimal slip g(theta) here as CSV (nothing is written
     /// without it); `run` and `sweep` start from it with --initial-slip FILE.
@@ -89,12 +89,12 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
     let samples = match &args.samples {
         Some(t) => t.trim().parse::<usize>().map_err(|_| {
             anyhow!(InputError(format!(
-                "--samples {t}: not a whole number: expected 3 to 4096"
+                "--samples {t}: not a whole number: expected {}",
+                shakedown::model::ranges::SAMPLES.expected
             )))
         })?,
         None => DEFAULT_SAMPLES,
     };
-    check_samples(samples, params.nodes)?;
     // A straight cycle (phi = 0) has two load points, not `samples`.
     let points = if params.phase.sin().abs() < 1e-12 {
         2
@@ -103,10 +103,10 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
     };
     warn_if_slow_limit(params.nodes, points);
     let _lock = prepare_out(&args)?;
-    let (material, center) = (case.material, case.cycle.center());
-    let (slope, phase) = (case.cycle.slope(), case.cycle.phase());
-    let limit =
-        shakedown_limit(&material, center, slope, phase, &case.disc, samples).map_err(classify)?;
+    let (material, center) = (case.material(), case.cycle().center());
+    let (slope, phase) = (case.cycle().slope(), case.cycle().phase());
+    let limit = shakedown_limit(&material, center, slope, phase, &case.disc(), samples)
+        .map_err(classify)?;
     if limit.line {
         if let Some(t) = &args.samples {
             return Err(anyhow!(InputError(format!(
@@ -116,9 +116,16 @@ pub fn limit(args: LimitArgs) -> Result<ExitCode> {
         }
     }
     // Convergence in the sample count (a line has nothing to converge).
-    let convergence =
-        sample_convergence(&material, center, slope, phase, &case.disc, samples, &limit)
-            .map_err(classify)?;
+    let convergence = sample_convergence(
+        &material,
+        center,
+        slope,
+        phase,
+        &case.disc(),
+        samples,
+        &limit,
+    )
+    .map_err(classify)?;
 
     if let Some(out) = &args.out {
         let csv = slip_csv(&limit, &material, center, slope, phase, samples);
@@ -169,14 +176,14 @@ fn polyline_limit(
         ))));
     }
     let vertices = polyline.vertices().len();
-    check_samples(vertices, params.nodes)?;
+    check_vertices(vertices)?;
     // The increments play no part in lambda_2: any count the cycle takes.
     params.steps = vertices * 16usize.div_ceil(vertices);
     let case = Case::from_params(&params).map_err(|e| case_error(e, |f| args.case.given(f)))?;
     warn_if_slow_limit(params.nodes, vertices);
     let _lock = prepare_out(args)?;
-    let (material, center) = (case.material, case.cycle.center());
-    let limit = shakedown::analysis::limit::cycle_limit(&material, &case.cycle, &case.disc, 0)
+    let (material, center) = (case.material(), case.cycle().center());
+    let limit = shakedown::analysis::limit::cycle_limit(&material, case.cycle(), &case.disc(), 0)
         .map_err(classify)?;
     if let Some(out) = &args.out {
         let csv = shakedown::io::csv::polyline_slip_csv(&limit, &material, center, polyline);
@@ -227,8 +234,8 @@ fn polyline_limit(
     );
     let _ = writeln!(
         o,
-        "check     max(|q| - f p) of the optimal slip at lambda_2: {:.2e}  ({} interior-point iterations)",
-        limit.max_violation, limit.iterations
+        "check     max(|q| - f p) of the optimal slip at lambda_2: {:.2e}  ({} interior-point iterations, {} pivots)",
+        limit.max_violation, limit.iterations, limit.pivots
     );
     if let Some(out) = &args.out {
         let _ = writeln!(
@@ -297,8 +304,8 @@ fn readable(
     }
     let _ = writeln!(
         o,
-        "check     max(|q| - f p) of the optimal slip at lambda_2: {:.2e}  ({} interior-point iterations)",
-        l.max_violation, l.iterations
+        "check     max(|q| - f p) of the optimal slip at lambda_2: {:.2e}  ({} interior-point iterations, {} pivots)",
+        l.max_violation, l.iterations, l.pivots
     );
     match out {
         Some(out) => {
@@ -340,14 +347,13 @@ fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
             .map_err(|_| anyhow!(InputError(format!("--samples {t}: not a whole number"))))?,
         None => DEFAULT_SAMPLES,
     };
-    check_samples(samples, params.nodes)?;
     warn_if_slow_limit(params.nodes, samples.saturating_mul(phases.len()));
     let points = limit_curve(
-        &case.material,
-        case.cycle.center(),
-        case.cycle.slope(),
+        &case.material(),
+        case.cycle().center(),
+        case.cycle().slope(),
         &phases,
-        &case.disc,
+        &case.disc(),
         samples,
     );
     if let Some(e) = points.iter().find_map(|p| p.limit.as_ref().err()) {
@@ -355,10 +361,10 @@ fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
     }
     let _lock = prepare_out(args)?;
     let meta = shakedown::io::csv::limit_curve_metadata(
-        &case.material,
-        case.cycle.center(),
-        case.cycle.slope(),
-        case.disc.nodes(),
+        &case.material(),
+        case.cycle().center(),
+        case.cycle().slope(),
+        case.disc().nodes(),
         &phases,
         samples,
     );
@@ -378,41 +384,15 @@ fn curve(args: &LimitArgs, phis: &str) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Largest `--samples`: the programme has a block of constraints per
-/// sample and node, and its memory grows with their product (4096 samples
-/// at 128 nodes took 2.7 GB).
-pub const MAX_SAMPLES: usize = 1024;
-/// Largest samples x nodes (about 0.7 GB at the rate measured above).
-pub const MAX_SAMPLE_NODES: usize = 1 << 17;
-
-/// A rough time for `limit` on an elliptical cycle: the programme's cost
-/// grows as about `N^3.2` with the node count and linearly with the
-/// samples (CPU time measured at the 64 default samples: 0.06 s at 128
-/// nodes, 0.45 s at 256, 5.1 s at 512).
-pub fn expected_limit_seconds(nodes: usize, samples: usize) -> f64 {
-    0.45 * (nodes as f64 / 256.0).powf(3.2) * samples as f64 / 64.0
-}
-
-/// Warn on stderr (one line) when `limit` will take more than a few
-/// seconds, with the expected time.
-fn warn_if_slow_limit(nodes: usize, samples: usize) {
-    let t = expected_limit_seconds(nodes, samples);
-    if t >= 5.0 {
-        let time = if t < 120.0 {
-            format!("about {t:.0} s")
-        } else {
-            format!("about {:.0} min", t / 60.0)
-        };
-        errln!("warning: --nodes {nodes} with {samples} samples: expect {time} for the linear programme");
-    }
-}
-
-/// Refuse `--samples` beyond the caps, before anything is allocated.
-fn check_samples(samples: usize, nodes: usize) -> Result<()> {
-    let cap = MAX_SAMPLES.min(MAX_SAMPLE_NODES / nodes.max(1)).max(3);
-    if samples > cap {
+/// Refuse a cycle with more vertices than the programme takes load points
+/// (the library's cap, as for `--samples`), before anything is allocated.
+/// The programme keeps a rate per load point, node and sign (`16 M N`
+/// bytes: 268 MB at the caps of 4096 load points and nodes).
+fn check_vertices(vertices: usize) -> Result<()> {
+    let cap = shakedown::analysis::limit::MAX_SAMPLES;
+    if vertices > cap {
         return Err(anyhow!(InputError(format!(
-            "--samples {samples}: at most {cap} with --nodes {nodes} (memory grows with samples x nodes): use fewer"
+            "--cycle: {vertices} vertices: limit takes at most {cap}: use fewer"
         ))));
     }
     Ok(())
@@ -443,4 +423,26 @@ fn prepare_out(args: &LimitArgs) -> Result<Option<OutputLock>> {
         )))
     })?;
     lock_file_output("--out", out)
+}
+
+/// A rough CPU time for `limit`: the factorisation of the basis on the
+/// finest grid (`O(N^3)`) and the rates of `samples` load points
+/// (`O(M N)`), as measured at the default 64 samples.
+pub fn expected_limit_seconds(nodes: usize, samples: usize) -> f64 {
+    let n = nodes as f64 / 1024.0;
+    0.1 * n * n * n + 1e-8 * samples as f64 * nodes as f64
+}
+
+/// Warn on stderr (one line) when `limit` will take more than a few
+/// seconds, with the expected time.
+fn warn_if_slow_limit(nodes: usize, samples: usize) {
+    let t = expected_limit_seconds(nodes, samples);
+    if t >= 5.0 {
+        let time = if t < 120.0 {
+            format!("about {t:.0} s")
+        } else {
+            format!("about {:.0} min", t / 60.0)
+        };
+        errln!("warning: --nodes {nodes} with {samples} load points: expect {time} for the linear programme");
+    }
 }

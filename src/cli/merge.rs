@@ -92,7 +92,7 @@ pub fn merge(mut args: MergeArgs) -> Result<ExitCode> {
         })
         .collect::<Result<Vec<_>>>()?;
     // Every row checked, its cycles against the cap the header records.
-    let row_key = sweep_row_key_capped(spec.options().convergence.max_cycles as u64);
+    let row_key = sweep_row_key_capped(spec.options().convergence().max_cycles() as u64);
     let merged = shakedown::io::batch::merge(&header, &keys, &inputs, row_key)
         .map_err(|e| anyhow!(InputError(format!("merge: {e}"))))?;
     match &args.out {

@@ -30,6 +30,7 @@ mod merge;
 mod presets;
 mod run;
 mod sweep;
+mod values;
 
 use std::process::ExitCode;
 
@@ -38,7 +39,7 @@ use clap::{Args, Parser, Subcommand};
 use shakedown::analysis::case::{Case, CaseError, CaseParams};
 use shakedown::io::parse::{parse_angle, parse_number, parse_point};
 use shakedown::io::preset::Preset;
-use shakedown::model::Plane;
+use shakedown::model::{ranges, Plane};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -81,28 +82,29 @@ enum Command {
 #[derive(Debug, Clone, Default, Args)]
 pub struct ModelArgs {
     /// Slope psi of the load line (eq. 13).
-    #[arg(long, value_name = "PSI", allow_hyphen_values = true)]
+    #[arg(long, value_name = "PSI", allow_hyphen_values = true, value_parser = values::number(ranges::PSI))]
     pub psi: Option<String>,
     /// Cycle centre A = x0,y0 in the load plane (accepts pi: pi,0.75pi).
-    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true, value_parser = values::point(ranges::CENTER))]
     pub center: Option<String>,
     /// Coulomb friction coefficient f.
-    #[arg(long, value_name = "F", allow_hyphen_values = true)]
+    #[arg(long, value_name = "F", allow_hyphen_values = true, value_parser = values::number(ranges::FRICTION))]
     pub friction: Option<String>,
     /// Poisson's ratio nu.
-    #[arg(long, value_name = "NU", allow_hyphen_values = true)]
+    #[arg(long, value_name = "NU", allow_hyphen_values = true, value_parser = values::number(ranges::NU))]
     pub nu: Option<String>,
     /// Plane strain or plane stress.
     #[arg(long, value_name = "strain|stress")]
     pub plane: Option<String>,
-    /// Nodes round the interface (even, 16..4096).
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    // The help quotes the range (`model::ranges`, the one place it is written).
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = values::count(ranges::NODES),
+          help = format!("Nodes round the interface: {}", ranges::NODES.expected))]
     pub nodes: Option<String>,
     /// Increments per cycle.
-    #[arg(long, value_name = "STEPS", allow_hyphen_values = true)]
+    #[arg(long, value_name = "STEPS", allow_hyphen_values = true, value_parser = values::count(ranges::STEPS))]
     pub steps: Option<String>,
     /// Cycle cap before a run is reported not-converged.
-    #[arg(long, value_name = "CYCLES", allow_hyphen_values = true)]
+    #[arg(long, value_name = "CYCLES", allow_hyphen_values = true, value_parser = values::count(ranges::MAX_CYCLES))]
     pub max_cycles: Option<String>,
     /// Run asymptotic shakedown out to its first cycle without slip instead
     /// of stopping once a safe state proves it (docs/model.md section 6.4).
@@ -143,10 +145,12 @@ pub struct CaseArgs {
     #[arg(long, value_name = "NAME|FILE")]
     pub preset: Option<String>,
     /// Load factor lambda (eq. 12).
-    #[arg(long, value_name = "LAMBDA", allow_hyphen_values = true)]
+    #[arg(long, value_name = "LAMBDA", allow_hyphen_values = true, value_parser = values::number(ranges::LAMBDA))]
     pub lambda: Option<String>,
     /// Phase phi between torque and force, radians or multiples of pi (0.5pi, pi/2).
-    #[arg(long, value_name = "ANGLE", allow_hyphen_values = true)]
+    // Parsed as a list: `limit --phi LIST|RANGE` draws the curve; the
+    // commands that take one phase refuse a list when they read it.
+    #[arg(long, value_name = "ANGLE", allow_hyphen_values = true, value_parser = values::list(ranges::PHI, parse_angle))]
     pub phi: Option<String>,
     /// Initial path: OA, one of the 24 points as a,b in units of pi/4 (e.g. 7,-7), or optimal.
     #[arg(long, value_name = "NAME", allow_hyphen_values = true)]
@@ -216,12 +220,15 @@ pub fn load_preset(flag: &str, name: &str) -> Result<Preset> {
 
 /// What each flag accepts, as error messages say it: the library's own
 /// ranges (`shakedown::model::ranges`), written once there.
-pub fn accepted(flag: &str) -> Option<&'static str> {
+pub fn accepted(flag: &str) -> Option<String> {
     Some(match flag {
-        "center" => "x0,y0 with |x0|, |y0| <= 1000 (pi allowed: pi,0.75pi)",
-        "plane" => "strain or stress",
-        "cycle" => "a CSV file with header u,v and at least 3 finite vertices",
-        f => shakedown::model::ranges::expected(f)?,
+        "center" => format!(
+            "x0,y0 with {} (pi allowed: pi,0.75pi)",
+            ranges::CENTER.expected
+        ),
+        "plane" => "strain or stress".into(),
+        "cycle" => "a CSV file with header u,v and at least 3 finite vertices".into(),
+        f => ranges::expected(f)?.into(),
     })
 }
 
@@ -251,10 +258,11 @@ pub fn flag_of(e: &CaseError) -> Option<&'static str> {
             "nodes" => "nodes",
             "steps" => "steps",
             "cycle" => "cycle",
+            "max-cycles" => "max-cycles",
             _ => return None,
         }),
         CaseError::Path(_) | CaseError::Optimal(_) => Some("initial"),
-        CaseError::MaxCycles(_) => Some("max-cycles"),
+        CaseError::Slip { .. } => None,
     }
 }
 
@@ -384,10 +392,10 @@ impl CaseArgs {
             CostClass::of(&params, &[params.phase]),
         );
         if let Some(text) = &self.initial_path {
-            case.initial = custom_path(text, &case.material)?;
+            case.set_initial(custom_path(text, &case.material())?)?;
         } else if self.initial.is_none() {
             if let Some(path) = self.preset()?.and_then(|p| p.initial_path) {
-                case.initial = path;
+                case.set_initial(path)?;
             }
         }
         Ok((params, case))
@@ -620,7 +628,13 @@ pub fn main() -> ExitCode {
                     (true, false) => 0,
                 });
             }
-            errln!("error: {}", clap_one_line(&e));
+            match values::render(&e) {
+                Some(line) => errln!(
+                    "error: {}",
+                    shorten_numbers(&shakedown::io::read::escape_text(&line, 2000))
+                ),
+                None => errln!("error: {}", clap_one_line(&e)),
+            }
             return ExitCode::from(2);
         }
     };

@@ -42,8 +42,8 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
     }
     let (mut params, mut case) = args.case.case(base)?;
     if let Some(path) = &args.initial_slip {
-        case.initial = super::initial_slip(path, params.nodes)?;
-        params.initial = case.initial.clone();
+        case.set_initial(super::initial_slip(path, params.nodes)?)?;
+        params.initial = case.initial().clone();
     }
     if let Some(out) = &args.profile {
         let mut inputs = args.case.input_files();
@@ -72,7 +72,7 @@ pub fn run(args: RunArgs) -> Result<ExitCode> {
             };
             let csv = shakedown::io::profile::profile_csv(
                 &case,
-                &case.initial.name(),
+                &case.initial().name(),
                 &summary,
                 &profile,
             );
@@ -327,14 +327,14 @@ pub fn profile_figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
             };
             let csv = shakedown::io::profile::profile_csv(
                 &case,
-                &case.initial.name(),
+                &case.initial().name(),
                 &summary,
                 &profile,
             );
             super::batch::write_file("--out", &file(".csv"), csv.as_bytes())?;
             let meta = shakedown::io::csv::Metadata::parse(&csv);
             let title = profile_title(|k| meta.get(k).map(str::to_string));
-            (profile, case.material.friction(), title)
+            (profile, case.material().friction(), title)
         }
     };
     let plot = ProfilePlot {

@@ -11,6 +11,7 @@ use shakedown::analysis::sweep::{groups, Job, SweepSpec, MAX_RUNS};
 use shakedown::io::batch::Shard;
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::model::path::Initial;
+use shakedown::model::ranges;
 
 use std::path::Path;
 
@@ -46,10 +47,12 @@ pub struct SweepArgs {
 #[derive(Debug, Clone, Default, Args)]
 pub struct ListArgs {
     /// Load factors: a list (5,5.5,6) or a range start:stop:step (3:7.5:0.05).
-    #[arg(long = "lambda", value_name = "LIST|RANGE", allow_hyphen_values = true)]
+    #[arg(long = "lambda", value_name = "LIST|RANGE", allow_hyphen_values = true,
+          value_parser = super::values::list(ranges::LAMBDA, parse_number))]
     pub lambdas: Option<String>,
     /// Phases: a list or a range; angles accept pi (0:pi:pi/24).
-    #[arg(long = "phi", value_name = "LIST|RANGE", allow_hyphen_values = true)]
+    #[arg(long = "phi", value_name = "LIST|RANGE", allow_hyphen_values = true,
+          value_parser = super::values::list(ranges::PHI, parse_angle))]
     pub phis: Option<String>,
     /// Initial paths: all (the paper's 25), optimal (the lambda_2 slip, per phase), or a list such as OA,7,-7 (points take two numbers) or all,optimal.
     #[arg(long = "initial", value_name = "all|NAMES", allow_hyphen_values = true)]

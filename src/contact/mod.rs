@@ -9,7 +9,7 @@ mod operators;
 mod solver;
 mod tolerances;
 
-pub use operators::Operators;
+pub use operators::{FftScratch, Operators};
 pub use solver::{
     Advanced, Contact, ContactEnd, ContactError, ContactEvent, ContactEventKind, Increment,
     SlipDirection, Solved, Trial,

@@ -192,15 +192,15 @@ pub fn case_metadata(table: &str, case: &Case, initial: &str) -> Metadata {
     let mut m = Metadata::new(table);
     model_entries(
         &mut m,
-        &case.material,
-        case.cycle.center(),
-        case.cycle.slope(),
+        &case.material(),
+        case.cycle().center(),
+        case.cycle().slope(),
     );
-    disc_entries(&mut m, &case.disc, &case.options.convergence);
-    m.push("lambda", fmt_number(case.cycle.load_factor()));
-    m.push("phi", fmt_number(case.cycle.phase()));
+    disc_entries(&mut m, &case.disc(), &case.options().convergence());
+    m.push("lambda", fmt_number(case.cycle().load_factor()));
+    m.push("phi", fmt_number(case.cycle().phase()));
     m.push("initial", initial);
-    if let Some(p) = case.cycle.as_polyline() {
+    if let Some(p) = case.cycle().as_polyline() {
         polyline_entries(&mut m, p);
     }
     m
@@ -228,13 +228,13 @@ pub(crate) fn model_entries(m: &mut Metadata, material: &Material, center: LoadP
 pub(crate) fn disc_entries(m: &mut Metadata, disc: &Discretisation, convergence: &Convergence) {
     m.push("nodes", disc.nodes())
         .push("steps", disc.steps_per_cycle())
-        .push("max-cycles", convergence.max_cycles);
+        .push("max-cycles", convergence.max_cycles());
     // How shakedown may be proven: with safe states (model.md section 6.4)
     // or only by a cycle without slip (`--run-out`); the cycle counts of
     // asymptotic shakedown differ, so files of the two do not mix.
     m.push(
         "verdicts",
-        if convergence.safe_state {
+        if convergence.safe_state() {
             "safe-state"
         } else {
             "run-out"

@@ -21,7 +21,7 @@ pub const SLIP_MAP_TABLE: &str = "slip-map";
 /// [`SLIP_MAP_TABLE`]) and the outcome of the run to its steady state,
 /// so that [`read_slip_map`] can give back the very map drawn.
 pub fn slip_map_metadata(case: &Case, map: &SlipMap) -> Metadata {
-    let mut m = case_metadata(SLIP_MAP_TABLE, case, &case.initial.name());
+    let mut m = case_metadata(SLIP_MAP_TABLE, case, &case.initial().name());
     let s = &map.outcome;
     m.push("state", s.state())
         .push("approach", s.approach())

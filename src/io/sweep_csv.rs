@@ -208,7 +208,7 @@ fn parse_sweep_line(line: &str) -> Result<SweepPoint, String> {
 pub fn sweep_metadata(spec: &SweepSpec) -> Metadata {
     let mut m = Metadata::new("sweep");
     model_entries(&mut m, &spec.material(), spec.center(), spec.slope());
-    disc_entries(&mut m, &spec.disc(), &spec.options().convergence);
+    disc_entries(&mut m, &spec.disc(), &spec.options().convergence());
     m.push("lambda", join(spec.load_factors()));
     m.push("phi", join(spec.phases()));
     let names: Vec<String> = spec.initials().iter().map(|i| i.name()).collect();

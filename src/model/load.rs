@@ -24,9 +24,14 @@ pub struct Loads {
 /// In these coordinates the initial stick region is the diamond
 /// `|x| + |y| <= 2 pi` and gross slip sets in at `|y| = 2 pi`, whatever the
 /// material (model.md section 2.3). Serialised as `[x, y]`; displayed as
-/// `(x, y)` to four decimals. The field holds the coordinates `(x, y)`.
+/// `(x, y)` to four decimals.
+///
+/// A point is only coordinates: where one is an input, the type it goes
+/// into checks it (the centre by [`crate::model::Cycle::new`], a vertex by
+/// [`crate::model::Polyline::new`], a transient's point by
+/// [`crate::model::Initial::custom`]).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct LoadPoint(pub Vector2<f64>);
+pub struct LoadPoint(Vector2<f64>);
 
 impl LoadPoint {
     /// The unloaded state `O = (0, 0)`, where every transient starts.
@@ -43,6 +48,10 @@ impl LoadPoint {
     /// `y = Tt / f`, the scaled torque.
     pub fn y(&self) -> f64 {
         self.0.y
+    }
+    /// The coordinates `(x, y)` as a vector.
+    pub fn vector(&self) -> Vector2<f64> {
+        self.0
     }
     /// Linear interpolation `self + s (to - self)`.
     pub fn lerp(&self, to: LoadPoint, s: f64) -> LoadPoint {

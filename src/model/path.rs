@@ -336,15 +336,13 @@ impl std::fmt::Display for Initial {
     }
 }
 
-/// One straight segment of a transient, cut into equal increments.
+/// One straight segment of a transient, cut into equal increments (at
+/// least one: [`Segment::new`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Segment {
-    /// Start of the segment in the load plane.
-    pub from: LoadPoint,
-    /// End of the segment in the load plane.
-    pub to: LoadPoint,
-    /// Number of equal increments, at least 1.
-    pub increments: usize,
+    from: LoadPoint,
+    to: LoadPoint,
+    increments: usize,
 }
 
 impl Segment {
@@ -364,6 +362,18 @@ impl Segment {
     /// (`s` in `[0, 1]` on the segment).
     pub fn at(&self, s: f64) -> LoadPoint {
         self.from.lerp(self.to, s)
+    }
+    /// Start of the segment in the load plane.
+    pub fn from(&self) -> LoadPoint {
+        self.from
+    }
+    /// End of the segment in the load plane.
+    pub fn to(&self) -> LoadPoint {
+        self.to
+    }
+    /// Number of equal increments, at least 1.
+    pub fn increments(&self) -> usize {
+        self.increments
     }
 }
 

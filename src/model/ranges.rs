@@ -153,6 +153,63 @@ pub const MAX_CYCLES: CountRange = CountRange {
     expected: "1 to 100000",
 };
 
+/// Load points `M` of an elliptical cycle in the `lambda_2` linear
+/// programme (model.md section 7.3; a straight cycle uses its two ends).
+pub const SAMPLES: CountRange = CountRange {
+    name: "samples",
+    min: 3,
+    max: 4096,
+    even: false,
+    expected: "3 to 4096 points on the ellipse",
+};
+/// Vertices `K` of a designed transient `O -> P1 -> ... -> PK -> A`
+/// (`analysis::design`).
+pub const VERTICES: CountRange = CountRange {
+    name: "vertices",
+    min: 1,
+    max: 16,
+    even: false,
+    expected: "1 to 16",
+};
+/// Particles of the design's swarm.
+pub const PARTICLES: CountRange = CountRange {
+    name: "particles",
+    min: 2,
+    max: 1000,
+    even: false,
+    expected: "2 to 1000",
+};
+/// Swarm generations of a design search after the first.
+pub const ITERATIONS: CountRange = CountRange {
+    name: "iterations",
+    min: 0,
+    max: 10_000,
+    even: false,
+    expected: "0 to 10000",
+};
+/// How far inside the gross-slip line `|y| = 2 pi` a designed vertex
+/// stays (model.md section 10): on the line the whole interface slides at
+/// once.
+pub const GROSS_GAP: RealRange = closed("gross-gap", 1e-3, 3.0, "a number from 0.001 to 3");
+/// Bisections of an increment whose active set does not settle (model.md
+/// section 3.3, robustness): each halves the increment, so the cost of a
+/// failing increment grows as `2^k`, and 20 already reaches a millionth of
+/// an increment.
+pub const FAILURE_BISECTIONS: CountRange = CountRange {
+    name: "failure-bisections",
+    min: 0,
+    max: 20,
+    even: false,
+    expected: "0 to 20",
+};
+/// The relative change of the cycle dissipation `W` below which a run has
+/// settled (model.md section 6.1; the paper's 0.01 % is `1e-4`).
+pub const TOLERANCE: RealRange = RealRange {
+    low_open: true,
+    high_open: true,
+    ..closed("tolerance", 0.0, 1.0, "0 < tolerance < 1")
+};
+
 /// The range in words of the parameter the command line spells `flag`.
 pub fn expected(flag: &str) -> Option<&'static str> {
     Some(match flag {
@@ -165,6 +222,13 @@ pub fn expected(flag: &str) -> Option<&'static str> {
         "nodes" => NODES.expected,
         "steps" => STEPS.expected,
         "max-cycles" => MAX_CYCLES.expected,
+        "samples" => SAMPLES.expected,
+        "vertices" => VERTICES.expected,
+        "particles" => PARTICLES.expected,
+        "iterations" => ITERATIONS.expected,
+        "gross-gap" => GROSS_GAP.expected,
+        "failure-bisections" => FAILURE_BISECTIONS.expected,
+        "tolerance" => TOLERANCE.expected,
         _ => return None,
     })
 }

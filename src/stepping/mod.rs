@@ -14,7 +14,7 @@ pub mod verdict;
 mod zones;
 
 pub use driver::{drive, Control, Driven, Goal, Observer, Silent};
-pub use options::{StepError, StepOptions};
+pub use options::{StepError, StepOptions, StepOptionsBuilder};
 pub use outcome::{GrossSlip, Level, Outcome, Separation, ShakedownProof, Verdict};
 pub use report::{AtCenter, Event, Phase, Status, StepReport};
 pub use safe_state::Certificate;

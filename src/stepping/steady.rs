@@ -5,6 +5,7 @@ use serde::Serialize;
 
 use super::outcome::Level;
 use super::verdict::level;
+use crate::model::{ranges, ParamError};
 
 /// The steady state a run reaches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, PartialOrd, Ord)]
@@ -165,18 +166,65 @@ impl CycleRecord {
 /// Slip below this fraction of the cycle's largest nodal slip is round-off.
 const SLIP_FRACTION: f64 = 1e-6;
 
-/// Criteria for the steady state (model.md section 6).
+/// Criteria for the steady state (model.md section 6), validated by
+/// [`Convergence::new`] (or [`crate::stepping::StepOptions::builder`]).
+///
+/// ```
+/// use shakedown::stepping::steady::Convergence;
+///
+/// let c = Convergence::new(1e-4, 300, true)?;
+/// assert_eq!((c.tolerance(), c.max_cycles(), c.safe_state()), (1e-4, 300, true));
+/// assert_eq!(Convergence::default().max_cycles(), 2000);
+/// // A cap of no cycle, or a tolerance that accepts any change, is refused.
+/// assert!(Convergence::new(1e-4, 0, true).is_err());
+/// assert!(Convergence::new(1.0, 300, true).is_err());
+/// # Ok::<(), shakedown::model::ParamError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Convergence {
-    /// `|W_k - W_(k-1)| <= tolerance W_(k-1)`: the paper's 0.01 %.
-    pub tolerance: f64,
+    tolerance: f64,
+    max_cycles: usize,
+    safe_state: bool,
+}
+
+impl Convergence {
+    /// The criteria: `tolerance` on the relative change of `W`, at most
+    /// `max_cycles` cycles, and whether to look for a safe state.
+    ///
+    /// # Errors
+    ///
+    /// [`ParamError`] unless `tolerance` is in [`ranges::TOLERANCE`] and
+    /// `max_cycles` in [`ranges::MAX_CYCLES`].
+    pub fn new(tolerance: f64, max_cycles: usize, safe_state: bool) -> Result<Self, ParamError> {
+        Ok(Self {
+            tolerance: ranges::TOLERANCE.check(tolerance)?,
+            max_cycles: ranges::MAX_CYCLES.check(max_cycles)?,
+            safe_state,
+        })
+    }
+    /// `|W_k - W_(k-1)| <= tolerance W_(k-1)`: the paper's 0.01 % is `1e-4`.
+    pub fn tolerance(&self) -> f64 {
+        self.tolerance
+    }
     /// Give up after this many cycles: the run is then `not-converged`.
     /// There is no other way out: no verdict is drawn from a trend.
-    pub max_cycles: usize,
+    pub fn max_cycles(&self) -> usize {
+        self.max_cycles
+    }
     /// Look for a safe state that proves shakedown before the first cycle
     /// without slip (model.md section 6.4). Off, a run that shakes down
     /// asymptotically is run out to its first cycle without slip.
-    pub safe_state: bool,
+    pub fn safe_state(&self) -> bool {
+        self.safe_state
+    }
+    /// The same criteria with the safe-state search on or off (which
+    /// carries no invariant).
+    pub fn with_safe_state(self, on: bool) -> Self {
+        Self {
+            safe_state: on,
+            ..self
+        }
+    }
 }
 
 /// The default cycle cap: boundary runs that shake down asymptotically
@@ -186,10 +234,13 @@ pub struct Convergence {
 /// never settle pay for the cap.
 pub const DEFAULT_MAX_CYCLES: usize = 2000;
 
+/// The paper's 0.01 % rule on the cycle dissipation `W`.
+pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+
 impl Default for Convergence {
     fn default() -> Self {
         Self {
-            tolerance: 1e-4,
+            tolerance: DEFAULT_TOLERANCE,
             max_cycles: DEFAULT_MAX_CYCLES,
             safe_state: true,
         }
@@ -255,10 +306,10 @@ pub fn assess(history: &[CycleRecord], criteria: &Convergence) -> Option<(Steady
     if !last.slipped() {
         return Some((SteadyState::Shakedown, Approach::NoSlipCycle));
     }
-    if let Some(state) = settled(history, criteria.tolerance) {
+    if let Some(state) = settled(history, criteria.tolerance()) {
         return Some((state, Approach::Converged));
     }
-    if history.len() >= criteria.max_cycles {
+    if history.len() >= criteria.max_cycles() {
         return Some((SteadyState::NotConverged, Approach::Cap));
     }
     None
@@ -411,6 +462,23 @@ mod tests {
     }
 
     #[test]
+    fn the_criteria_are_checked_against_their_ranges() {
+        let (t, m) = (ranges::TOLERANCE, ranges::MAX_CYCLES);
+        assert!(Convergence::new(t.low, 10, true).is_err());
+        assert!(Convergence::new(t.high, 10, true).is_err());
+        assert!(Convergence::new(f64::NAN, 10, true).is_err());
+        assert!(Convergence::new(0.5 * (t.low + t.high), m.min, true).is_ok());
+        assert!(Convergence::new(1e-4, m.max, true).is_ok());
+        assert!(Convergence::new(1e-4, m.min - 1, true).is_err());
+        assert!(Convergence::new(1e-4, m.max + 1, true).is_err());
+        let d = Convergence::default();
+        assert_eq!(
+            Convergence::new(d.tolerance(), d.max_cycles(), d.safe_state()),
+            Ok(d)
+        );
+    }
+
+    #[test]
     fn classification_by_nodes() {
         let mut r = CycleRecord::new(1, 3);
         r.dissipation = 1.0;
@@ -426,10 +494,7 @@ mod tests {
 
     #[test]
     fn cap_reports_not_converged() {
-        let c = Convergence {
-            max_cycles: 3,
-            ..Convergence::default()
-        };
+        let c = Convergence::new(1e-4, 3, true).unwrap();
         let h = vec![record(1, 1.0), record(2, 2.0), record(3, 1.0)];
         assert_eq!(
             assess(&h, &c),

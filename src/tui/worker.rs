@@ -17,7 +17,7 @@ use crate::analysis::case::Case;
 use crate::analysis::curves;
 use crate::analysis::episodes::{EpisodeTracker, LockedSlip};
 use crate::contact::{Operators, SlipDirection};
-use crate::model::path::Segment;
+use crate::model::path::{Initial, Segment};
 use crate::stepping::{self, Control, Event, Observer, Phase, Status, StepReport, Stepper};
 
 /// How far the worker should go.
@@ -44,6 +44,9 @@ pub enum Command {
         generation: u64,
         /// The case to run.
         case: Box<Case>,
+        /// The initial path to run it from: [`Initial::Optimal`] is
+        /// resolved by the worker, off the UI thread.
+        initial: Initial,
     },
     /// Step towards `goal`; `Stopped` answers with the same `seq`.
     Go {
@@ -229,18 +232,25 @@ impl Thread {
 
     fn handle(&mut self, command: Command) {
         match command {
-            Command::Restart { generation, case } => {
+            Command::Restart {
+                generation,
+                case,
+                initial,
+            } => {
                 // A storm of restarts builds only the last one.
                 let mut case = case;
                 let mut generation = generation;
+                let mut requested = initial;
                 loop {
                     match self.commands.try_recv() {
                         Ok(Command::Restart {
                             generation: g,
                             case: c,
+                            initial: i,
                         }) => {
                             generation = g;
                             case = c;
+                            requested = i;
                         }
                         Ok(other) => {
                             self.pending = Some(other);
@@ -256,24 +266,24 @@ impl Thread {
                 // The optimal slip's linear programme is solved here, off
                 // the UI thread, like every other step of the run.
                 let initial = curves::resolve_initial(
-                    &case.initial,
-                    &case.material,
-                    &case.cycle,
-                    &case.disc,
+                    &requested,
+                    &case.material(),
+                    case.cycle(),
+                    &case.disc(),
                     None,
                 );
                 self.unresolved = initial
                     .as_ref()
                     .err()
                     .map(|e| format!("no optimal slip: {e}"));
-                let initial = initial.unwrap_or_else(|_| case.initial.clone());
+                let initial = initial.unwrap_or(requested);
                 let mut stepper = Stepper::with_operators(
                     Arc::clone(&self.operators),
-                    case.material,
-                    case.disc,
+                    case.material(),
+                    case.disc(),
                     &initial,
-                    case.cycle,
-                    case.options,
+                    case.cycle().clone(),
+                    case.options(),
                 );
                 stepper.set_pause_at_events(self.filter.is_some_and(|f| f.inside_increments()));
                 self.generation = generation;

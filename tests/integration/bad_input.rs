@@ -1305,8 +1305,8 @@ fn limit_refuses_what_it_would_ignore() {
     );
     refused_in(
         &dir,
-        &["limit", "--samples", "4096"],
-        &["--samples 4096", "at most"],
+        &["limit", "--samples", "4097"],
+        &["--samples 4097", "3 to 4096"],
     );
     let out = ok_in(
         &dir,

@@ -124,13 +124,13 @@ fn no_path_shakes_down_above_lambda_2() {
         ..CaseParams::default()
     };
     let case = Case::from_params(&params).unwrap();
-    let c = &case.cycle;
+    let c = &case.cycle();
     let limit = shakedown_limit(
-        &case.material,
+        &case.material(),
         c.center(),
         c.slope(),
         c.phase(),
-        &case.disc,
+        &case.disc(),
         64,
     )
     .unwrap();
@@ -138,15 +138,11 @@ fn no_path_shakes_down_above_lambda_2() {
     let shape = Shape::new(
         Family::Free,
         2,
-        Region::for_material(&case.material),
+        Region::for_material(&case.material()),
         c.center(),
     )
     .unwrap();
-    let budget = Budget {
-        particles: 8,
-        iterations: 2,
-        seed: 3,
-    };
+    let budget = Budget::new(8, 2, 3).unwrap();
     let stop = Interrupt::new();
     let found = search(
         &runner,

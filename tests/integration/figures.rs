@@ -553,14 +553,17 @@ fn custom_path_through_7_minus_7_is_the_paper_point() {
         ..CaseParams::default()
     };
     let mut case = Case::from_params(&params).unwrap();
-    case.initial = via;
+    case.set_initial(via).unwrap();
     let a = case.stepper().run_to_steady().unwrap();
     let points = shakedown::io::parse::parse_points("1.75pi,-1.75pi").unwrap();
     let points = points
         .into_iter()
         .map(|(x, y)| shakedown::LoadPoint::new(x, y))
         .collect();
-    case.initial = shakedown::model::path::Initial::custom_for(points, &case.material).unwrap();
+    case.set_initial(
+        shakedown::model::path::Initial::custom_for(points, &case.material()).unwrap(),
+    )
+    .unwrap();
     let b = case.stepper().run_to_steady().unwrap();
     assert_eq!(a, b);
     // The same from the command line.

@@ -7,6 +7,7 @@
 use std::f64::consts::PI;
 
 use shakedown::analysis::case::{Case, CaseParams};
+use shakedown::stepping::StepOptions;
 use shakedown::{Outcome, SteadyState, Verdict};
 
 fn case(load_factor: f64, phase: f64, initial: &str, poisson: f64) -> Case {
@@ -22,18 +23,19 @@ fn case(load_factor: f64, phase: f64, initial: &str, poisson: f64) -> Case {
 
 /// The run at the defaults, with the cycle cap `max_cycles`.
 fn run(case: &Case, max_cycles: usize) -> Outcome {
-    let mut case = case.clone();
-    case.options.convergence.max_cycles = max_cycles;
+    let options = case.options().to_builder().max_cycles(max_cycles);
+    let case = case.clone().with_options(options.build().unwrap());
     case.stepper().run_to_steady().unwrap()
 }
 
 /// The same case run on until `W` changes by less than `1e-10` over three
 /// cycles: its last `W` (the level to about `1e-9`) and every cycle's `W`.
 fn run_out(case: &Case) -> (f64, Vec<f64>) {
-    let mut case = case.clone();
-    case.options.convergence.tolerance = 1e-10;
-    case.options.convergence.max_cycles = 5000;
-    case.options.convergence.safe_state = false;
+    let options = StepOptions::builder()
+        .tolerance(1e-10)
+        .max_cycles(5000)
+        .safe_state(false);
+    let case = case.clone().with_options(options.build().unwrap());
     let mut stepper = case.stepper();
     let outcome = stepper.run_to_steady().unwrap();
     assert_ne!(outcome.state(), SteadyState::NotConverged, "{outcome:?}");
@@ -102,9 +104,12 @@ fn ratchetting_has_its_steady_rotation() {
     // W falls to 1.1e-5 and levels off at 7.49e-6, turning by -2.6e-5 a
     // cycle.
     let case = case(5.1, 0.375 * PI, "-5,5", 0.3);
-    let mut out = case.clone();
-    out.options.convergence.tolerance = 1e-10;
-    out.options.convergence.max_cycles = 5000;
+    let options = case
+        .options()
+        .to_builder()
+        .tolerance(1e-10)
+        .max_cycles(5000);
+    let out = case.clone().with_options(options.build().unwrap());
     let mut stepper = out.stepper();
     stepper.run_to_steady().unwrap();
     let rotation = stepper.history().last().unwrap().rotation;

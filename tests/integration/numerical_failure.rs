@@ -25,10 +25,10 @@ fn hard_case() -> (Material, Discretisation, Vec<LoadPoint>) {
 }
 
 fn no_bisection() -> StepOptions {
-    StepOptions {
-        failure_bisections: 0,
-        ..StepOptions::default()
-    }
+    StepOptions::builder()
+        .failure_bisections(0)
+        .build()
+        .unwrap()
 }
 
 fn run_transient(options: StepOptions) -> Result<usize, StepError> {

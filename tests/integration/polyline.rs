@@ -69,11 +69,11 @@ fn the_ellipse_as_its_400_load_points_gives_the_built_in_results() {
         // polyline's is exact for its chords, the ellipse's is this
         // sampling's bound.
         let sampled = shakedown_limit(
-            &built_in.material,
-            built_in.cycle.center(),
+            &built_in.material(),
+            built_in.cycle().center(),
             0.625,
             phase,
-            &built_in.disc,
+            &built_in.disc(),
             400,
         )
         .unwrap();

@@ -117,7 +117,7 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
                 (before + n - 1) % n
             };
             assert_eq!(app.path_index(), expected);
-            assert_eq!(app.case().initial, app.paths()[expected]);
+            assert_eq!(app.initial(), &app.paths()[expected]);
             assert_restarted(&app);
         }
         Action::RunPause => {
@@ -497,7 +497,7 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
             assert_eq!(app.view(), View::Stepping);
             assert_eq!(app.load_factor(), 5.5);
             assert_eq!(app.phase(), PI / 2.0);
-            assert_eq!(app.case().initial.name(), "OA");
+            assert_eq!(app.initial().name(), "OA");
             assert_eq!(app.paths()[app.path_index()].name(), "OA");
             assert!(app.is_running());
             assert_eq!(app.increments(), 0);
@@ -528,7 +528,7 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
             handle(&mut app);
             assert_eq!(app.tour().map(|(k, _)| k), Some(1));
             assert!(app.pauses_on_events(), "stop 2 pauses at advancing stick");
-            assert_eq!(app.case().initial.name(), "7,-7");
+            assert_eq!(app.initial().name(), "7,-7");
         }
         Action::TourPrevious => {
             app.apply(Action::TourNext);
@@ -580,7 +580,7 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
             assert_eq!(app.load_factor(), 5.5);
             assert_eq!(app.phase(), 0.0);
             assert_eq!(app.paths()[app.path_index()].name(), "7,-7");
-            assert_eq!(app.case().initial.name(), "7,-7");
+            assert_eq!(app.initial().name(), "7,-7");
             assert!(app.is_running());
             assert_eq!(app.increments(), 0);
             let notice = app.notice().unwrap_or_default();
@@ -666,7 +666,7 @@ fn the_sweep_fills_in_and_enter_opens_a_run() {
     key(&mut app, KeyCode::Enter);
     assert_eq!(app.view(), View::Stepping);
     assert_eq!(app.load_factor(), 7.0);
-    assert_eq!(app.case().initial.name(), "7,-7");
+    assert_eq!(app.initial().name(), "7,-7");
 
     // Esc goes back to the stepping view; it never quits.
     key(&mut app, KeyCode::Tab);
@@ -1150,12 +1150,12 @@ fn the_prompt_takes_a_custom_path() {
         key(app, KeyCode::Enter);
     };
     type_in(&mut app, "path = 1,1;2,-1");
-    assert!(matches!(app.case().initial, shakedown::Initial::Custom(ref p) if p.len() == 2));
+    assert!(matches!(app.initial(), shakedown::Initial::Custom(ref p) if p.len() == 2));
     assert_restarted_on_path(&app);
     type_in(&mut app, "path = 1,9");
     let notice = app.notice().unwrap_or_default().to_string();
     assert!(notice.starts_with("path = X1,Y1;X2,Y2"), "{notice}");
-    assert!(matches!(app.case().initial, shakedown::Initial::Custom(ref p) if p.len() == 2));
+    assert!(matches!(app.initial(), shakedown::Initial::Custom(ref p) if p.len() == 2));
 }
 
 fn assert_restarted_on_path(app: &App) {
@@ -1186,13 +1186,13 @@ fn the_tour_walks_its_stops_and_hands_over() {
     key(&mut app, KeyCode::Char('n'));
     key(&mut app, KeyCode::Char('n'));
     assert_eq!(app.tour().map(|(k, _)| k), Some(2));
-    assert_eq!(app.case().initial.name(), "OA");
+    assert_eq!(app.initial().name(), "OA");
     assert_eq!(app.goal(), Some(Goal::Steady));
     wait_until(&mut app, |a| a.pinned().is_some());
     let pinned = app.pinned().unwrap().clone();
     assert_eq!(pinned.path, "OA");
     assert_ne!(pinned.state, "unclassified", "pinned at its steady state");
-    assert_eq!(app.case().initial.name(), "7,-7");
+    assert_eq!(app.initial().name(), "7,-7");
     assert_eq!(app.goal(), Some(Goal::Steady), "the second runs to its own");
     // `N` goes back, and leaves no pin behind.
     key(&mut app, KeyCode::Char('N'));

@@ -295,7 +295,7 @@ fn the_regime_map_fills_in_and_enter_opens_a_case() {
     assert_eq!(app.view(), View::Stepping);
     assert_eq!(app.load_factor(), 5.5);
     assert_eq!(app.phase(), std::f64::consts::FRAC_PI_2);
-    assert_eq!(app.case().initial, Initial::Direct);
+    assert_eq!(app.initial(), &Initial::Direct);
     assert!(app.is_running());
 
     // Back to the map: it is kept, nothing is recomputed.
@@ -361,10 +361,11 @@ fn custom_path_points_on_the_load_plane() {
         let mut params = default_params();
         params.initial = shakedown::Initial::Direct;
         let mut case = Case::from_params(&params).unwrap();
-        case.initial = Initial::custom(points.clone()).unwrap();
-        let center = case.cycle.center();
+        case.set_initial(Initial::custom(points.clone()).unwrap())
+            .unwrap();
+        let center = case.cycle().center();
         let mut app = App::new(case.clone(), config);
-        let waypoints = case.initial.waypoints_to(center);
+        let waypoints = case.initial().waypoints_to(center);
         app.feed_started(segments(&waypoints, 0.5), 0.1);
         app
     };

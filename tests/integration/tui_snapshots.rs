@@ -177,7 +177,7 @@ fn synthetic(i: usize, n: usize) -> Record {
 /// The explorer in a fixed, synthetic state after `n` increments.
 fn fixed_app(color: bool, n: usize) -> App {
     let mut app = app(color);
-    let nodes = app.case().disc.nodes();
+    let nodes = app.case().disc().nodes();
     let a = shakedown::LoadPoint::new(0.0, 0.0);
     let b = shakedown::LoadPoint::new(4.0, 0.0);
     app.feed_started(vec![Segment::new(a, b, 0.5)], 0.3);
@@ -318,7 +318,7 @@ fn nothing_is_cut_without_an_ellipsis() {
 #[test]
 fn ascii_draws_ascii_only() {
     let mut app = app(true);
-    let nodes = app.case().disc.nodes();
+    let nodes = app.case().disc().nodes();
     let mut ascii = Config {
         ascii: true,
         ..config(true)
@@ -464,6 +464,7 @@ fn sweep_app(color: bool) -> App {
         line: true,
         max_violation: 0.0,
         iterations: 0,
+        pivots: 0,
     }));
     sweep.move_x(1);
     sweep.move_run(1);
@@ -522,7 +523,7 @@ fn tour_app(stop: usize) -> App {
     for _ in 0..stop {
         app.apply(Action::TourNext);
     }
-    let nodes = app.case().disc.nodes();
+    let nodes = app.case().disc().nodes();
     for i in 0..INCREMENTS {
         app.feed(synthetic(i, nodes));
     }
@@ -661,7 +662,7 @@ fn sweep_save_asks_on_the_status_line() {
 fn the_steady_goal_shows_its_progress() {
     let mut app = app(true);
     app.apply(Action::ToSteady);
-    let nodes = app.case().disc.nodes();
+    let nodes = app.case().disc().nodes();
     for i in 0..1700 {
         app.feed(synthetic(i, nodes));
     }

@@ -16,11 +16,9 @@ use shakedown::{
 };
 
 /// Runs taken far beyond the default verdict.
-const REFERENCE: Convergence = Convergence {
-    tolerance: 1e-8,
-    max_cycles: 2000,
-    safe_state: false,
-};
+fn reference() -> Convergence {
+    Convergence::new(1e-8, 2000, false).unwrap()
+}
 
 fn stepper(load_factor: f64, phase: f64, initial: &str, convergence: Convergence) -> Stepper {
     Stepper::new(
@@ -28,10 +26,7 @@ fn stepper(load_factor: f64, phase: f64, initial: &str, convergence: Convergence
         Discretisation::default(),
         &Initial::parse(initial).unwrap(),
         Cycle::paper(load_factor, phase).unwrap(),
-        StepOptions {
-            convergence,
-            ..StepOptions::default()
-        },
+        StepOptions::default().with_convergence(convergence),
     )
 }
 
@@ -133,10 +128,7 @@ fn a_smooth_safe_state_is_found_by_the_quick_search() {
         4.5,
         0.0,
         "7,-7",
-        Convergence {
-            safe_state: false,
-            ..Convergence::default()
-        },
+        Convergence::default().with_safe_state(false),
     );
     let run_out = s.run_to_steady().unwrap();
     assert_eq!(run_out.state(), SteadyState::Shakedown, "{run_out:?}");
@@ -186,11 +178,7 @@ fn the_cap_is_not_converged_with_a_trend() {
         5.1,
         31.0 * PI / 48.0,
         "5,7",
-        Convergence {
-            max_cycles: 60,
-            safe_state: false,
-            ..Convergence::default()
-        },
+        Convergence::new(1e-4, 60, false).unwrap(),
     )
     .run_to_steady()
     .unwrap();
@@ -226,7 +214,7 @@ fn fig6_boundary_runs_agree_with_runs_taken_to_2000_cycles() {
     let results: Vec<_> = BOUNDARY_SAMPLE
         .par_iter()
         .map(|&(k, initial)| {
-            let mut s = stepper(5.1, k * PI / 48.0, initial, REFERENCE);
+            let mut s = stepper(5.1, k * PI / 48.0, initial, reference());
             let reference = s.run_to_steady().unwrap();
             let verdict = default_verdict(s.history());
             let defaults = run(5.1, k * PI / 48.0, initial);

@@ -53,7 +53,7 @@ pub const SHAKEDOWN_COST: f64 = -1.0;
 
 /// How far inside the gross-slip line `|y| = 2 pi` a vertex may go: a
 /// vertex on the line slides the whole interface at once.
-pub const GROSS_SLIP_GAP: f64 = 1e-3;
+pub const GROSS_SLIP_GAP: f64 = crate::model::ranges::GROSS_GAP.low;
 
 /// Why a design could not be made.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -70,8 +70,8 @@ pub enum DesignError {
     /// `lambda_2` could not be computed.
     #[error(transparent)]
     Limit(#[from] LimitError),
-    /// The number of vertices is outside `1..=16`.
-    #[error("vertices = {0} is out of range: expected 1 to 16")]
+    /// The number of vertices is outside [`crate::model::ranges::VERTICES`].
+    #[error("vertices = {0} is out of range: expected {expected}", expected = crate::model::ranges::VERTICES.expected)]
     Vertices(usize),
     /// The optimiser failed (its message).
     #[error("the particle swarm failed: {0}")]
@@ -85,10 +85,8 @@ pub enum DesignError {
 /// the straight segments between its points stay in it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Region {
-    /// Largest `|x|` of a vertex.
-    pub x_max: f64,
-    /// Largest `|y|` of a vertex.
-    pub y_max: f64,
+    x_max: f64,
+    y_max: f64,
 }
 
 impl Region {
@@ -96,19 +94,39 @@ impl Region {
     /// most 99.9 % of the separation bound `2 pi chi / (f beta)` (12.21 for
     /// the paper's material).
     pub fn for_material(material: &Material) -> Self {
-        Self::with_gross_gap(material, GROSS_SLIP_GAP)
+        Self::box_for(material, GROSS_SLIP_GAP)
     }
 
     /// The box with `|y| <= 2 pi - gap`: a wider `gap` keeps the vertices
     /// further inside the gross-slip line. The frontier's dependence on
     /// `gap` shows how much the gross-slip line limits what a transient can
     /// lock in (model.md section 10).
-    pub fn with_gross_gap(material: &Material, gap: f64) -> Self {
+    ///
+    /// # Errors
+    ///
+    /// [`ParamError`] unless `gap` is in [`crate::model::ranges::GROSS_GAP`].
+    pub fn with_gross_gap(material: &Material, gap: f64) -> Result<Self, ParamError> {
+        Ok(Self::box_for(
+            material,
+            crate::model::ranges::GROSS_GAP.check(gap)?,
+        ))
+    }
+
+    fn box_for(material: &Material, gap: f64) -> Self {
         let separation = 2.0 * PI * material.chi() / (material.friction() * material.beta());
         Self {
             x_max: 0.999 * separation,
             y_max: 2.0 * PI - gap,
         }
+    }
+
+    /// Largest `|x|` of a vertex.
+    pub fn x_max(&self) -> f64 {
+        self.x_max
+    }
+    /// Largest `|y|` of a vertex.
+    pub fn y_max(&self) -> f64 {
+        self.y_max
     }
 
     /// Whether `p` lies in the box.
@@ -152,27 +170,27 @@ impl Family {
 /// from parameters to paths.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Shape {
-    /// The family.
-    pub family: Family,
-    /// `K`, the vertices between `O` and `A`.
-    pub vertices: usize,
-    /// The admissible box.
-    pub region: Region,
-    /// The cycle centre `A`.
-    pub center: LoadPoint,
+    family: Family,
+    vertices: usize,
+    region: Region,
+    center: LoadPoint,
 }
 
 impl Shape {
+    /// The family `family` with `vertices` vertices, on `region` round the
+    /// centre `center`.
+    ///
     /// # Errors
     ///
-    /// [`DesignError::Vertices`] unless `1 <= vertices <= 16`.
+    /// [`DesignError::Vertices`] unless `vertices` is in
+    /// [`crate::model::ranges::VERTICES`].
     pub fn new(
         family: Family,
         vertices: usize,
         region: Region,
         center: LoadPoint,
     ) -> Result<Self, DesignError> {
-        if !(1..=16).contains(&vertices) {
+        if !crate::model::ranges::VERTICES.contains(vertices) {
             return Err(DesignError::Vertices(vertices));
         }
         Ok(Self {
@@ -181,6 +199,23 @@ impl Shape {
             region,
             center,
         })
+    }
+
+    /// The family.
+    pub fn family(&self) -> Family {
+        self.family
+    }
+    /// `K`, the vertices between `O` and `A`.
+    pub fn vertices(&self) -> usize {
+        self.vertices
+    }
+    /// The admissible box.
+    pub fn region(&self) -> Region {
+        self.region
+    }
+    /// The cycle centre `A`.
+    pub fn center(&self) -> LoadPoint {
+        self.center
     }
 
     /// The number of parameters.
@@ -296,7 +331,7 @@ impl Runner {
     pub fn new(case: &Case) -> Self {
         Self {
             case: case.clone(),
-            ops: operators(&case.disc),
+            ops: operators(&case.disc()),
         }
     }
 
@@ -311,7 +346,7 @@ impl Runner {
     ///
     /// [`DesignError::Param`] for a `lambda` outside `0..=1000`.
     pub fn cycle(&self, lambda: f64) -> Result<Cycle, DesignError> {
-        let c = &self.case.cycle;
+        let c = &self.case.cycle();
         Ok(Cycle::new(c.center(), lambda, c.slope(), c.phase())?)
     }
 
@@ -326,11 +361,11 @@ impl Runner {
         let c = &self.case;
         let mut s = Stepper::with_operators(
             Arc::clone(&self.ops),
-            c.material,
-            c.disc,
+            c.material(),
+            c.disc(),
             initial,
             cycle,
-            c.options,
+            c.options(),
         );
         Ok(s.run_to_steady()?)
     }
@@ -342,7 +377,7 @@ impl Runner {
     /// As [`Runner::run`], and [`DesignError::Path`] for a path outside the
     /// admissible region.
     pub fn run_path(&self, path: &[LoadPoint], lambda: f64) -> Result<Outcome, DesignError> {
-        let initial = Initial::custom_for(path.to_vec(), &self.case.material)?;
+        let initial = Initial::custom_for(path.to_vec(), &self.case.material())?;
         self.run(&initial, lambda)
     }
 }
@@ -377,15 +412,48 @@ pub fn path_limit(
     Ok(Some(lo))
 }
 
-/// The budget and seed of one search.
+/// The budget and seed of one search, checked by [`Budget::new`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Budget {
+    particles: usize,
+    iterations: u64,
+    seed: u64,
+}
+
+impl Budget {
+    /// `particles` in the swarm, `iterations` generations after the first,
+    /// and the `seed` of every random draw.
+    ///
+    /// # Errors
+    ///
+    /// [`ParamError::BadCount`] unless `particles` is in
+    /// [`crate::model::ranges::PARTICLES`] and `iterations` in
+    /// [`crate::model::ranges::ITERATIONS`].
+    pub fn new(particles: usize, iterations: u64, seed: u64) -> Result<Self, ParamError> {
+        use crate::model::ranges::{ITERATIONS, PARTICLES};
+        let iterations = usize::try_from(iterations).unwrap_or(usize::MAX);
+        Ok(Self {
+            particles: PARTICLES.check(particles)?,
+            iterations: ITERATIONS.check(iterations)? as u64,
+            seed,
+        })
+    }
     /// Particles in the swarm.
-    pub particles: usize,
+    pub fn particles(&self) -> usize {
+        self.particles
+    }
     /// Swarm generations after the first.
-    pub iterations: u64,
+    pub fn iterations(&self) -> u64 {
+        self.iterations
+    }
     /// The seed of every random draw.
-    pub seed: u64,
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+    /// The same budget with another seed.
+    pub fn with_seed(self, seed: u64) -> Self {
+        Self { seed, ..self }
+    }
 }
 
 impl Default for Budget {
@@ -681,11 +749,11 @@ pub const LAMBDA_TOL: f64 = 5e-4;
 pub fn references(runner: &Runner) -> Result<References, DesignError> {
     let c = runner.case();
     let limit = shakedown_limit(
-        &c.material,
-        c.cycle.center(),
-        c.cycle.slope(),
-        c.cycle.phase(),
-        &c.disc,
+        &c.material(),
+        c.cycle().center(),
+        c.cycle().slope(),
+        c.cycle().phase(),
+        &c.disc(),
         crate::analysis::limit::DEFAULT_SAMPLES,
     )?;
     let lambda_2 = limit.load_factor;
@@ -708,7 +776,7 @@ pub fn references(runner: &Runner) -> Result<References, DesignError> {
         lambda_1,
         best_of_25: best,
         best_name: set[best_index].name(),
-        best_turning: set[best_index].waypoints_to(c.cycle.center())[1],
+        best_turning: set[best_index].waypoints_to(c.cycle().center())[1],
         lambda_2,
     })
 }
@@ -735,7 +803,7 @@ pub fn frontier(
     row_done: &mut dyn FnMut(&FrontierRow),
 ) -> Result<Vec<FrontierRow>, DesignError> {
     let c = runner.case();
-    let center = c.cycle.center();
+    let center = c.cycle().center();
     let mut rows = Vec::new();
     let mut lo = refs.best_of_25;
     let mut best_params: Option<Vec<f64>> = None;
@@ -765,7 +833,7 @@ pub fn frontier(
                 runner,
                 shape,
                 mid,
-                Budget { seed, ..budget },
+                budget.with_seed(seed),
                 std::slice::from_ref(&params),
                 stop,
                 &report,
@@ -773,7 +841,7 @@ pub fn frontier(
             evaluations += found.evaluations;
             match found.best {
                 Some(b) if b.shakes_down() => {
-                    let initial = Initial::custom_for(b.path.clone(), &c.material)?;
+                    let initial = Initial::custom_for(b.path.clone(), &c.material())?;
                     lo = path_limit(runner, &initial, mid, hi, LAMBDA_TOL)?.unwrap_or(mid);
                     params = b.params;
                     path = b.path;

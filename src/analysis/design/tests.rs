@@ -8,8 +8,8 @@ fn shape(family: Family, k: usize) -> Shape {
     Shape::new(
         family,
         k,
-        Region::for_material(&case.material),
-        case.cycle.center(),
+        Region::for_material(&case.material()),
+        case.cycle().center(),
     )
     .unwrap()
 }
@@ -67,4 +67,36 @@ fn initial_path_text_reads_back_exactly() {
         assert_eq!(p.x().to_bits(), x.to_bits());
         assert_eq!(p.y().to_bits(), y.to_bits());
     }
+}
+
+/// The search's settings are checked against their ranges where they are
+/// made: a budget, a region's gap, a shape's vertex count.
+#[test]
+fn budgets_regions_and_shapes_are_checked_against_their_ranges() {
+    use crate::model::ranges::{GROSS_GAP, ITERATIONS, PARTICLES, VERTICES};
+    let (p, i) = (PARTICLES, ITERATIONS);
+    assert!(Budget::new(p.min, i.min as u64, 1).is_ok());
+    assert!(Budget::new(p.max, i.max as u64, 1).is_ok());
+    assert!(Budget::new(p.min - 1, 0, 1).is_err());
+    assert!(Budget::new(p.max + 1, 0, 1).is_err());
+    assert!(Budget::new(p.min, i.max as u64 + 1, 1).is_err());
+    assert!(Budget::new(p.min, u64::MAX, 1).is_err());
+    let m = Material::paper();
+    for gap in [GROSS_GAP.low, GROSS_GAP.high] {
+        let r = Region::with_gross_gap(&m, gap).unwrap();
+        assert_eq!(r.y_max(), 2.0 * PI - gap);
+    }
+    for gap in [
+        GROSS_GAP.low.next_down(),
+        GROSS_GAP.high.next_up(),
+        f64::NAN,
+    ] {
+        assert!(Region::with_gross_gap(&m, gap).is_err());
+    }
+    let region = Region::for_material(&m);
+    let at = LoadPoint::ORIGIN;
+    assert!(Shape::new(Family::Free, VERTICES.min, region, at).is_ok());
+    assert!(Shape::new(Family::Free, VERTICES.max, region, at).is_ok());
+    assert!(Shape::new(Family::Free, VERTICES.max + 1, region, at).is_err());
+    assert!(Shape::new(Family::Free, VERTICES.min - 1, region, at).is_err());
 }

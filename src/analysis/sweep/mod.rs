@@ -29,6 +29,9 @@ use crate::stepping::{
 };
 
 /// The swept lists of a sweep: `lambda`, `phi` and the initial paths.
+///
+/// Like [`crate::analysis::case::CaseParams`], an input as given: nothing
+/// is checked here, [`SweepSpec::new`] and [`SweepSpec::over`] validate.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SweepLists {
     /// The load factors `lambda`, in output order.
@@ -174,19 +177,19 @@ impl SweepSpec {
     /// cycle is invalid.
     pub fn over(case: &Case, lists: &SweepLists) -> Result<SweepSpec, ParamError> {
         Self::new(
-            case.material,
-            case.disc,
-            case.options,
-            case.cycle.center(),
+            case.material(),
+            case.disc(),
+            case.options(),
+            case.cycle().center(),
             // A polyline has no slope: validated on the ellipse's default
             // until `with_polyline` puts the polyline in its place.
-            match case.cycle.as_polyline() {
+            match case.cycle().as_polyline() {
                 Some(_) => 0.625,
-                None => case.cycle.slope(),
+                None => case.cycle().slope(),
             },
             lists.clone(),
         )?
-        .with_polyline(case.cycle.as_polyline().cloned())
+        .with_polyline(case.cycle().as_polyline().cloned())
     }
 
     /// A sweep of `lists` on the paper's model: its material, the default

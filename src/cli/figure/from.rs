@@ -251,7 +251,7 @@ pub(super) fn from_sweep_csv(
         _ => bad(&e),
     })?;
     let row_key =
-        shakedown::io::csv::sweep_row_key_capped(spec.options().convergence.max_cycles as u64);
+        shakedown::io::csv::sweep_row_key_capped(spec.options().convergence().max_cycles() as u64);
     let point =
         shakedown::io::batch::resume_point(&bytes, &header, keys, row_key).map_err(|e| bad(&e))?;
     let cut = point.kept < keys.len() || point.bytes < bytes.len();

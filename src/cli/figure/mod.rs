@@ -664,10 +664,10 @@ fn single_case(args: &FigureArgs, preset: &Preset) -> Result<Case> {
     }
     let mut case = Case::from_params(&p).map_err(|e| anyhow!(InputError(e.to_string())))?;
     if let Some(text) = &args.lists.initial_path {
-        case.initial = super::custom_path(text, &case.material)?;
+        case.set_initial(super::custom_path(text, &case.material())?)?;
     } else if args.lists.initials.is_none() {
         if let Some(path) = &preset.initial_path {
-            case.initial = path.clone();
+            case.set_initial(path.clone())?;
         }
     }
     Ok(case)

@@ -274,7 +274,7 @@ impl Stepper {
         if !matches!(self.status, Status::Running) {
             return;
         }
-        let verdict = match assess(&self.history, &self.options.convergence) {
+        let verdict = match assess(&self.history, &self.options.convergence()) {
             Some((state, approach)) => self.verdict_of(state, approach),
             None => match self.safe_state_certificate() {
                 Some(c) => Verdict::Shakedown(ShakedownProof::SafeState(c)),
@@ -365,7 +365,7 @@ impl Stepper {
     /// After a complete cycle without a verdict: shakedown proven by a safe
     /// state near the slip reached (model.md section 6.4), if there is one.
     fn safe_state_certificate(&mut self) -> Option<Certificate> {
-        if !self.options.convergence.safe_state {
+        if !self.options.convergence().safe_state() {
             return None;
         }
         let n = self.history.len();

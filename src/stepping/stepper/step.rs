@@ -28,7 +28,7 @@ impl Stepper {
         match self.phase {
             Phase::Transient { segment, increment } => self
                 .runs
-                .span_in_segment(increment, self.transient[segment].increments),
+                .span_in_segment(increment, self.transient[segment].increments()),
             Phase::Cycle { increment, .. } => {
                 self.runs.span_in_cycle(&self.cycle_points, increment)
             }
@@ -40,7 +40,7 @@ impl Stepper {
         match self.phase {
             Phase::Transient { segment, increment } => {
                 let seg = &self.transient[segment];
-                seg.at((increment as f64 + s * self.runs.span as f64) / seg.increments as f64)
+                seg.at((increment as f64 + s * self.runs.span as f64) / seg.increments() as f64)
             }
             Phase::Cycle { increment, .. } if self.runs.span > 1 => {
                 // A straight run: its chord.
@@ -153,7 +153,7 @@ impl Stepper {
             // A straight run: no bisection of it (a failure is taken one
             // increment at a time below).
             self.contact.set_segment_increments(self.runs.span);
-            let result = self.advance(start, 1.0, self.options.failure_bisections, report);
+            let result = self.advance(start, 1.0, self.options.failure_bisections(), report);
             self.contact.set_segment_increments(1);
             result
         } else {
@@ -199,7 +199,7 @@ impl Stepper {
                 return Err(StepError::NotSettled {
                     load,
                     phase: self.phase_label(),
-                    bisections: self.options.failure_bisections,
+                    bisections: self.options.failure_bisections(),
                 })
             }
             // Gross slip and separation are outcomes, not failures.
@@ -264,7 +264,7 @@ impl Stepper {
             Ok(Advanced::Ended(end)) => Ok(Progress::Ended(end, reached)),
             Ok(Advanced::Paused) => Ok(Progress::Paused(reached)),
             Err(ContactError::NotSettled { .. })
-                if fail_depth < self.options.failure_bisections && reached < s1 =>
+                if fail_depth < self.options.failure_bisections() && reached < s1 =>
             {
                 let mid = 0.5 * (reached + s1);
                 match self.advance(reached, mid, fail_depth + 1, report)? {
@@ -374,12 +374,12 @@ impl Stepper {
         match self.phase {
             Phase::Transient { segment, increment } => {
                 let next = increment + self.runs.span;
-                if next >= self.transient[segment].increments
-                    && self.transient[segment].to == self.cycle.center()
+                if next >= self.transient[segment].increments()
+                    && self.transient[segment].to() == self.cycle.center()
                 {
                     self.arrived_at_center();
                 }
-                if next < self.transient[segment].increments {
+                if next < self.transient[segment].increments() {
                     self.phase = Phase::Transient {
                         segment,
                         increment: next,

@@ -248,14 +248,14 @@ impl App {
     /// is shown there instead of a map). The sweep starts the first time
     /// the sweep view opens, so a user who never looks at it pays nothing.
     pub fn with_sweep(case: Case, config: Config, source: Result<SweepSource, String>) -> Self {
-        let operators = stepping::operators(&case.disc);
+        let operators = stepping::operators(&case.disc());
         let worker = Worker::spawn(Arc::clone(&operators));
         worker.send(Command::Budget(config.history_bytes / STEPPER_SHARE));
         let mut paths = Initial::paper_set();
-        let path_index = match paths.iter().position(|p| *p == case.initial) {
+        let path_index = match paths.iter().position(|p| p == case.initial()) {
             Some(i) => i,
             None => {
-                paths.push(case.initial.clone());
+                paths.push(case.initial().clone());
                 paths.len() - 1
             }
         };
@@ -318,7 +318,15 @@ impl App {
     pub fn config(&self) -> Config {
         self.config
     }
-    /// The case being stepped, with the current `lambda`, `phi` and path.
+    /// The initial path of the run: the one of [`App::paths`] selected,
+    /// [`Initial::Optimal`] included (the worker resolves it for each run,
+    /// off the UI thread; a [`Case`] holds only resolved paths, so the
+    /// case's own is the one the explorer opened with).
+    pub fn initial(&self) -> &Initial {
+        &self.paths[self.path_index]
+    }
+    /// The case being stepped, with the current `lambda` and `phi`; its
+    /// initial path is [`App::initial`].
     pub fn case(&self) -> &Case {
         &self.case
     }
@@ -328,11 +336,11 @@ impl App {
     }
     /// The load factor `lambda` of the current cycle.
     pub fn load_factor(&self) -> f64 {
-        self.case.cycle.load_factor()
+        self.case.cycle().load_factor()
     }
     /// The phase `phi` of the current cycle, in radians.
     pub fn phase(&self) -> f64 {
-        self.case.cycle.phase()
+        self.case.cycle().phase()
     }
     /// The initial paths `[` and `]` cycle through.
     pub fn paths(&self) -> &[Initial] {
@@ -469,7 +477,7 @@ impl App {
     /// The stepper's phase after the newest increment.
     pub fn stepper_phase(&self) -> Phase {
         self.history.newest().map_or(
-            match self.case.initial {
+            match self.initial() {
                 Initial::Direct => Phase::Cycle {
                     cycle: 1,
                     increment: 0,

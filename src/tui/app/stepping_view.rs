@@ -111,7 +111,7 @@ impl App {
     }
 
     pub(super) fn scrub_cycle(&mut self, delta: isize) {
-        let steps = self.case.disc.steps_per_cycle() as isize;
+        let steps = self.case.disc().steps_per_cycle() as isize;
         self.scrub(delta * steps);
     }
 
@@ -184,12 +184,12 @@ impl App {
             "lambda {} phi {} {}",
             format_load_factor(self.load_factor()),
             format_phase(self.phase()),
-            self.case.initial.name()
+            self.initial().name()
         );
         self.notice = Some(format!("pinned {label}: change the run to compare"));
         self.pinned = Some(Pinned {
             label,
-            path: self.case.initial.name(),
+            path: self.initial().name(),
             state,
             cycles: self.cycles.clone(),
             slip,
@@ -251,8 +251,7 @@ impl App {
                 {
                     Some(i) => {
                         self.path_index = i;
-                        self.case.initial = self.paths[i].clone();
-                        self.restart(&format!("path {}", self.case.initial.name()));
+                        self.restart(&format!("path {}", self.initial().name()));
                     }
                     // Not a named path: the user's own, `X1,Y1;X2,Y2`.
                     None if value.contains(',') => self.custom_path(value),
@@ -281,7 +280,7 @@ impl App {
             .into_iter()
             .map(|(x, y)| crate::model::LoadPoint::new(x, y))
             .collect();
-        match Initial::custom_for(points, &self.case.material) {
+        match Initial::custom_for(points, &self.case.material()) {
             Ok(initial) => {
                 let i = match self.paths.iter().position(|p| *p == initial) {
                     Some(i) => i,
@@ -291,8 +290,7 @@ impl App {
                     }
                 };
                 self.path_index = i;
-                self.case.initial = initial;
-                self.restart(&format!("path {}", self.case.initial.name()));
+                self.restart(&format!("path {}", self.initial().name()));
             }
             Err(e) => self.notice = Some(format!("path = X1,Y1;X2,Y2: {e}")),
         }
@@ -353,7 +351,7 @@ impl App {
     }
 
     pub(super) fn change_phase(&mut self, sign: f64) {
-        if self.case.cycle.as_polyline().is_some() {
+        if self.case.cycle().as_polyline().is_some() {
             self.notice = Some("a polyline cycle (--cycle) has no phase".into());
             return;
         }
@@ -379,7 +377,10 @@ impl App {
     pub(super) fn change_cycle(&mut self, load_factor: f64, phase: f64, what: String) {
         match self.cycle_at(load_factor, phase) {
             Ok(cycle) => {
-                self.case.cycle = cycle;
+                if let Err(e) = self.case.set_cycle(cycle) {
+                    self.notice = Some(e.to_string());
+                    return;
+                }
                 self.restart(&what);
             }
             Err(e) => self.notice = Some(e.to_string()),
@@ -388,8 +389,7 @@ impl App {
 
     pub(super) fn change_path(&mut self, offset: usize) {
         self.path_index = (self.path_index + offset) % self.paths.len();
-        self.case.initial = self.paths[self.path_index].clone();
-        let what = format!("path {}", self.case.initial.name());
+        let what = format!("path {}", self.initial().name());
         self.restart(&what);
     }
 
@@ -399,6 +399,7 @@ impl App {
         self.worker.send(Command::Restart {
             generation: self.generation,
             case: Box::new(self.case.clone()),
+            initial: self.initial().clone(),
         });
         self.send_filter();
     }
@@ -418,7 +419,7 @@ impl App {
         self.last_event = None;
         self.failure = None;
         self.goal = None;
-        let from = match self.case.initial {
+        let from = match self.initial() {
             Initial::Slip { .. } | Initial::Optimal => "restarted at A with the prescribed slip",
             _ => "restarted from O",
         };
@@ -432,7 +433,7 @@ impl App {
         load_factor: f64,
         phase: f64,
     ) -> Result<Cycle, crate::model::ParamError> {
-        let c = &self.case.cycle;
+        let c = &self.case.cycle();
         match c.as_polyline() {
             Some(_) => c.with_load_factor(load_factor),
             None => Cycle::new(c.center(), load_factor, c.slope(), phase),
@@ -450,8 +451,11 @@ impl App {
                 return;
             }
         };
+        if let Err(e) = self.case.set_cycle(cycle) {
+            self.notice = Some(e.to_string());
+            return;
+        }
         self.pause_regime();
-        self.case.cycle = cycle;
         self.path_index = match self.paths.iter().position(|p| *p == initial) {
             Some(i) => i,
             None => {
@@ -459,14 +463,13 @@ impl App {
                 self.paths.len() - 1
             }
         };
-        self.case.initial = initial;
         self.view = View::Stepping;
         self.running = true;
         let what = format!(
             "opened lambda {}, phi {}, path {}",
             format_load_factor(load_factor),
             format_phase(phase),
-            self.case.initial.name()
+            self.initial().name()
         );
         self.restart(&what);
     }

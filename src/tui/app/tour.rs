@@ -149,9 +149,11 @@ impl App {
     /// the paper's elliptical cycles: a polyline cycle (`--cycle`) gives
     /// way to the default case's cycle.
     pub fn start_tour(&mut self) {
-        if self.case.cycle.as_polyline().is_some() {
+        if self.case.cycle().as_polyline().is_some() {
             if let Ok(case) = Case::from_params(&crate::tui::default_params()) {
-                self.case.cycle = case.cycle;
+                if let Err(e) = self.case.set_cycle(case.cycle().clone()) {
+                    self.notice = Some(e.to_string());
+                }
             }
         }
         self.go_to_stop(0);

@@ -10,7 +10,7 @@ impl App {
         if self.goal != Some(Goal::Steady) {
             return None;
         }
-        let tolerance = self.case.options.convergence.tolerance;
+        let tolerance = self.case.options().convergence().tolerance();
         let changes: Vec<f64> = self
             .cycles
             .windows(2)
@@ -32,7 +32,7 @@ impl App {
             }
             _ => None,
         };
-        let max = self.case.options.convergence.max_cycles as f64;
+        let max = self.case.options().convergence().max_cycles() as f64;
         let done = self.cycles.last().map_or(0, |c| c.0);
         let cycles_left = cycles_left.map(|k| k.min((max - done as f64).max(0.0)));
         let left = match (per_cycle, cycles_left) {

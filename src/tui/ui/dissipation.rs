@@ -206,7 +206,7 @@ fn render_legend(app: &App, pinned: &Pinned, theme: &Theme, area: Rect, buf: &mu
         "λ {} φ {} {}",
         format_load_factor(app.load_factor()),
         format_phase(app.phase()),
-        app.case().initial.name()
+        app.initial().name()
     );
     let live_state = state_of(app.status());
     let rows = [
@@ -215,7 +215,7 @@ fn render_legend(app: &App, pinned: &Pinned, theme: &Theme, area: Rect, buf: &mu
             theme.fg(Color::LightCyan),
             "live",
             live_label,
-            app.case().initial.name(),
+            app.initial().name(),
             live_state,
         ),
         (

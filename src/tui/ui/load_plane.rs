@@ -29,7 +29,7 @@ impl ratatui::widgets::Widget for LoadPlane<'_> {
 }
 
 fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Theme) {
-    let cycle = app.case().cycle.clone();
+    let cycle = app.case().cycle().clone();
     let cycle_points: Vec<(f64, f64)> = match cycle.as_polyline() {
         // A polyline is drawn through its own vertices, closed, so that no
         // corner is cut (model.md section 5.4).
@@ -52,7 +52,7 @@ fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Them
     let segments: Vec<(f64, f64, f64, f64)> = app
         .transient()
         .iter()
-        .map(|s| (s.from.x(), s.from.y(), s.to.x(), s.to.y()))
+        .map(|s| (s.from().x(), s.from().y(), s.to().x(), s.to().y()))
         .collect();
     let (load_x, load_y) = app.shown().map_or((0.0, 0.0), |r| r.load);
     // Where gross slip (or separation) ended the run, when it did.
@@ -60,12 +60,12 @@ fn render(buf: &mut ratatui::buffer::Buffer, area: Rect, app: &App, theme: &Them
         crate::stepping::Status::Ended(s) => s.terminal_load().map(|p| (p.x(), p.y())),
         _ => None,
     };
-    let selected = match app.case().initial {
-        Initial::Via { a, b } => Some((a, b)),
+    let selected = match app.initial() {
+        Initial::Via { a, b } => Some((*a, *b)),
         _ => None,
     };
     // The points of a custom transient `O -> points -> A` (--initial-path).
-    let waypoints: Vec<(f64, f64)> = match &app.case().initial {
+    let waypoints: Vec<(f64, f64)> = match app.initial() {
         Initial::Custom(points) => points.iter().map(|p| (p.x(), p.y())).collect(),
         _ => Vec::new(),
     };

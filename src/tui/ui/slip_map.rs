@@ -36,7 +36,7 @@ impl Widget for SlipMap<'_> {
 
 fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
     let boundary_glyph = theme.sym("┆", ":");
-    let steps = app.case().disc.steps_per_cycle();
+    let steps = app.case().disc().steps_per_cycle();
     // Words when there is room, the bare glyphs when there is not.
     let wide = area.width >= 72;
     let wider = area.width >= 100;
@@ -103,7 +103,7 @@ fn draw_map(
     let columns = usize::from(inner.width - GUTTER);
     let map_x = inner.x + GUTTER;
     let axis_y = inner.y + inner.height - 1;
-    let nodes = app.case().disc.nodes();
+    let nodes = app.case().disc().nodes();
 
     // theta runs from pi at the top to -pi at the bottom, as in the paper.
     let band = 2.0 * PI / rows as f64;

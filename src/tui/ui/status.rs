@@ -43,7 +43,7 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
         label("  phi = "),
         value(format_phase(app.phase())),
         label("  psi = "),
-        value(format!("{}", case.cycle.slope())),
+        value(format!("{}", case.cycle().slope())),
         label("  path "),
         value(path.name()),
         label(format!(" ({}/{})", app.path_index() + 1, app.paths().len()).as_str()),
@@ -51,11 +51,11 @@ fn render(buf: &mut Buffer, area: Rect, app: &App, theme: &Theme) {
     if wide {
         line1
             .spans
-            .extend([sep(), label("N "), value(case.disc.nodes().to_string())]);
+            .extend([sep(), label("N "), value(case.disc().nodes().to_string())]);
     }
 
     let shown = app.shown();
-    let steps = case.disc.steps_per_cycle();
+    let steps = case.disc().steps_per_cycle();
     // One counter: live or in the history, where the run is after the
     // increment on screen (increments done in the cycle, and in all).
     let (history_at, after) = match (app.cursor(), shown) {
