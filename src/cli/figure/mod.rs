@@ -506,7 +506,7 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
                     write(&file("_load.csv"), &(meta + &map.load_csv()))?;
                     written.push(file(".csv"));
                     written.push(file("_load.csv"));
-                    (map, case.initial.name())
+                    (map, case.initial().name())
                 }
             };
             describe(&map)?;
