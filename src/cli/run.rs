@@ -277,6 +277,28 @@ pub fn profile_figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
     }
     let (profile, friction, title) = match &args.from {
         Some(from) => {
+            // The profile is drawn as it was run: a model or case flag
+            // would not change it, so it is refused rather than ignored.
+            let model = ["psi", "center", "friction", "nu", "plane", "nodes", "steps"]
+                .into_iter()
+                .chain(["max-cycles"])
+                .find_map(|f| args.model.given(f).map(|v| (f, v)));
+            let lists = &args.lists;
+            let case = [
+                ("lambda", &lists.lambdas),
+                ("phi", &lists.phis),
+                ("initial", &lists.initials),
+                ("initial-slip", &lists.initial_slip),
+                ("initial-path", &lists.initial_path),
+            ]
+            .into_iter()
+            .find_map(|(f, v)| v.clone().map(|v| (f, v)));
+            let run_out = args.model.run_out.then(|| ("run-out", String::new()));
+            if let Some((flag, v)) = model.or(case).or(run_out) {
+                return Err(bad(format!(
+                    "--{flag} {v}: figure profile --from draws the profile as it was run (its header says how): drop --{flag}"
+                )));
+            }
             let shown = shakedown::io::read::escape_text(&from.display().to_string(), 200);
             let text = shakedown::io::read::read_text_capped(from, 64 << 20)
                 .map_err(|e| bad(format!("--from {shown}: {e}")))?;

@@ -246,6 +246,14 @@ fn a_polyline_profile_is_redrawn_without_a_cycle_but_not_with_another() {
         &[&recorded, "cycle:other.csv@sha256:"],
     );
     ok(&[&redraw[..], &["--cycle", &t.renamed]].concat());
+    // Neither would a model or case flag change it: refused, not ignored.
+    for flag in [
+        &["--friction", "0.2"][..],
+        &["--lambda", "6"],
+        &["--run-out"],
+    ] {
+        refused(&[&redraw[..], flag].concat(), &[flag[0], "as it was run"]);
+    }
     let from_ellipse = format!("{ellipse}/profile.csv");
     refused(
         &[
