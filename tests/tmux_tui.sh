@@ -9,8 +9,9 @@
 # main screen, icanon echo) and `fg` redraws the panels; that pausing at an
 # advancing stick shows its episode slip; the guided tour's first two
 # stops; the sweep table scrolling to the selected row; a save that will
-# not overwrite without y; and a custom transient's waypoints. Builds
-# nothing itself.
+# not overwrite without y; a custom transient's waypoints; the fretting
+# profile (f) at 80x24; and the regime map's lambda_2 points arriving with
+# the map. Builds nothing itself.
 #
 #   tests/tmux_tui.sh [path/to/shakedown]    (default target/release/shakedown)
 set -u
@@ -361,6 +362,29 @@ grep -q '◆1' "$work/screen" && grep -q '◆2' "$work/screen" \
 wait_for 'incr [1-9]' 10 || fail "--initial-path: the run does not step"
 echo "tmux_tui: --initial-path draws its waypoints and steps"
 quit "initial path"
+
+# The fretting profile at 80x24: f opens it, it comes once a cycle has
+# completed (the worker computes it beside the run) and names the hot
+# spot; f again gives the instant's panels back.
+start "tui --nodes 32 --steps 100" 80 24
+wait_for 'lambda = [0-9]' 15 || fail "profile run: the status line did not appear"
+tm send-keys -t "$session" f
+wait_for 'hot spot|nothing slips in cycle' 20 || fail "f did not show the fretting profile of a completed cycle"
+grep -q 'Slip amplitude' "$work/screen" || fail "the profile's slip amplitude panel is not on screen"
+tm send-keys -t "$session" f
+wait_for 'Tractions' 5 || fail "f again did not bring the tractions panel back"
+echo "tmux_tui: f shows the fretting profile with its hot spot, and hides it"
+quit "profile"
+
+# The regime map at 120x40: lambda_2(phi) is solved beside the map's runs
+# and its points are drawn as they arrive, before the map is done.
+start "tui --nodes 32 --steps 100" 120 40
+wait_for 'lambda = [0-9]' 15 || fail "regime run: the status line did not appear"
+tm send-keys -t "$session" g
+wait_for 'lambda_2 = [0-9]' 30 || fail "no point of lambda_2 came with the regime map"
+grep -Eq '[0-9]+/[0-9]+ runs' "$work/screen" || fail "the regime map's progress is not on screen"
+echo "tmux_tui: the regime map's lambda_2 points arrive with the map"
+quit "regime"
 
 # The terminal disappears (an SSH connection drops, the tmux server is
 # killed): the explorer gets SIGHUP and must end, not run on without a

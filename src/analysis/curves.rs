@@ -55,11 +55,34 @@ pub fn lambda2_curve(
     samples: usize,
     cancel: &AtomicBool,
 ) -> Vec<Option<f64>> {
-    phases
-        .iter()
-        .take_while(|_| !cancel.load(Ordering::Relaxed))
-        .map(|&phase| limit_at(spec, phase, samples).ok().map(|l| l.load_factor))
-        .collect()
+    let mut curve = Vec::with_capacity(phases.len());
+    lambda2_points(spec, phases, samples, cancel, |_, l| {
+        curve.push(l);
+        true
+    });
+    curve
+}
+
+/// [`lambda2_curve`] point by point: `point(i, lambda_2)` is called as
+/// soon as the programme at `phases[i]` is solved, so a front end draws
+/// the curve as it arrives. It stops before the next phase once `cancel`
+/// is raised or `point` returns false (its receiver is gone).
+pub fn lambda2_points(
+    spec: &SweepSpec,
+    phases: &[f64],
+    samples: usize,
+    cancel: &AtomicBool,
+    mut point: impl FnMut(usize, Option<f64>) -> bool,
+) {
+    for (i, &phase) in phases.iter().enumerate() {
+        if cancel.load(Ordering::Relaxed) {
+            return;
+        }
+        let l2 = limit_at(spec, phase, samples).ok().map(|l| l.load_factor);
+        if !point(i, l2) {
+            return;
+        }
+    }
 }
 
 /// The optimal slip of `limit` as an initial condition: the run starts at
@@ -142,6 +165,21 @@ mod tests {
     fn a_cancelled_curve_solves_nothing() {
         let s = spec(&[0.0]);
         assert!(lambda2_curve(&s, &[0.0, 0.1], 16, &AtomicBool::new(true)).is_empty());
+    }
+
+    /// Each point is handed on as it is solved, with its index, and the
+    /// curve stops once its receiver says so.
+    #[test]
+    fn the_points_arrive_one_by_one_until_refused() {
+        let phases = [0.0, PI / 4.0, PI / 2.0];
+        let s = spec(&phases);
+        let mut seen = Vec::new();
+        lambda2_points(&s, &phases, 16, &AtomicBool::new(false), |i, l| {
+            seen.push((i, l));
+            i < 1
+        });
+        let curve = lambda2_curve(&s, &phases[..2], 16, &AtomicBool::new(false));
+        assert_eq!(seen, vec![(0, curve[0]), (1, curve[1])]);
     }
 
     /// The optimal initial slip is the limit's slip, mean zero, whether it

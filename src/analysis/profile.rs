@@ -247,6 +247,41 @@ pub fn profile_run(stepper: &mut Stepper) -> Result<(Outcome, Option<Profile>), 
     Ok((summary, profile))
 }
 
+/// The profile of the cycle `stepper` is about to run: it must stand at
+/// the start of a cycle (increment 0, not inside an increment), as a copy
+/// of a live run's stepper kept there does. The copy is stepped through
+/// that one cycle a sub-segment at a time (see the module notes); `None`
+/// when it does not stand at a cycle's start, the run ends within the
+/// cycle, or `cancel` is raised (checked after every step).
+///
+/// # Errors
+///
+/// A numerical failure of an increment.
+pub fn profile_cycle(
+    stepper: &mut Stepper,
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<Option<Profile>, StepError> {
+    use std::sync::atomic::Ordering;
+    stepper.set_straight_runs(false);
+    stepper.set_pause_at_events(true);
+    stepper.set_zone_events(false);
+    let mut observer = ProfileObserver::new(stepper);
+    if observer.current.is_none() {
+        return Ok(None);
+    }
+    let mut watch = |s: &Stepper, r: &StepReport| {
+        if cancel.load(Ordering::Relaxed) {
+            return Control::Stop;
+        }
+        observer.observe(s, r)
+    };
+    drive(stepper, Goal::CycleEnd, &mut watch)?;
+    if cancel.load(Ordering::Relaxed) {
+        return Ok(None);
+    }
+    Ok(observer.into_last())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -324,6 +359,40 @@ mod tests {
         let peak = |p: &Profile| p.slip_amplitude.iter().copied().fold(0.0, f64::max);
         let (a, b) = (peak(&coarse), peak(&fine));
         assert!(b > 0.0 && (a - b).abs() <= 0.05 * b, "{a} against {b}");
+    }
+
+    /// A copy of a live run kept at the start of a cycle profiles that
+    /// cycle: its column sums to the `W` the live run (straight runs and
+    /// all) records for the same cycle. Mid-cycle there is nothing to
+    /// profile, and a raised cancel gives nothing.
+    #[test]
+    fn a_copy_at_a_cycles_start_profiles_that_cycle() {
+        let disc = Discretisation::new(32, 100).unwrap();
+        let mut live = Stepper::new(
+            Material::paper(),
+            disc,
+            &Initial::parse("7,-7").unwrap(),
+            Cycle::paper(5.5, 0.0).unwrap(),
+            StepOptions::default(),
+        );
+        let mut silent = crate::stepping::Silent;
+        drive(&mut live, Goal::TransientEnd, &mut silent).unwrap();
+        drive(&mut live, Goal::CycleEnd, &mut silent).unwrap();
+        let copy = live.clone();
+        drive(&mut live, Goal::CycleEnd, &mut silent).unwrap();
+        let w = live.history().last().unwrap().dissipation;
+        let never = std::sync::atomic::AtomicBool::new(false);
+        let profile = profile_cycle(&mut copy.clone(), &never)
+            .unwrap()
+            .expect("a cycle's start");
+        assert_eq!(profile.cycle, 2);
+        assert!(w > 0.0);
+        let sum = profile.total_dissipation();
+        assert!((sum - w).abs() <= 1e-9 * w, "{sum} against W = {w}");
+        let cancelled = std::sync::atomic::AtomicBool::new(true);
+        assert_eq!(profile_cycle(&mut copy.clone(), &cancelled).unwrap(), None);
+        drive(&mut live, Goal::Increments(3), &mut silent).unwrap();
+        assert_eq!(profile_cycle(&mut live, &never).unwrap(), None);
     }
 
     /// Below the elastic limit nothing slips: every slip column is zero.

@@ -4,7 +4,7 @@
 //! background threads, `lambda_2(phi)` from the linear programme, and the
 //! cursor over the cells. No terminal I/O here and no physics: the runs
 //! are [`SweepSpec::run_ordered`]'s, the map is a [`RegimeMap`] and the
-//! limit curve is [`lambda2_curve`]'s.
+//! limit curve is [`lambda2_points`]'s.
 //!
 //! The map computes only while it is on screen. Leaving it, or starting
 //! it again (another transient, a rerun), cancels the runs it replaces:
@@ -12,13 +12,18 @@
 //! their next increment, so a storm of keys leaves one computation and
 //! flat memory. The cells already done are kept when it is only left, and
 //! coming back runs the rest.
+//!
+//! `lambda_2(phi)` starts with the map, on a thread of its own (not on
+//! rayon's pool, where it would queue behind the map's runs), and each
+//! point is drawn as soon as its programme is solved. It is cancelled and
+//! resumed with the map.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::Arc;
 
 use crate::analysis::case::Case;
-use crate::analysis::curves::lambda2_curve;
+use crate::analysis::curves::lambda2_points;
 use crate::analysis::ordered::{Interrupt, StopLevel};
 use crate::analysis::regime::{RegimeCell, RegimeMap};
 use crate::analysis::sweep::{Job, Row, SweepLists, SweepSpec};
@@ -151,10 +156,30 @@ impl RegimeSource {
 /// `lambda_2` over the map's phases.
 #[derive(Debug, Clone, PartialEq)]
 pub enum CurveState {
-    /// The linear programmes are running on their own thread.
-    Computing,
+    /// The linear programmes are running (or paused with the map): one
+    /// entry per phase of the map, `Some` once that phase's point is in.
+    Computing(Vec<Option<Option<f64>>>),
     /// `lambda_2` at each phase of the map (`None` where it failed).
     Known(Vec<Option<f64>>),
+}
+
+impl CurveState {
+    /// `lambda_2` at each phase of the map, `None` where it is not (yet)
+    /// known: what the map draws, point by point as they arrive.
+    pub fn points(&self) -> Vec<Option<f64>> {
+        match self {
+            Self::Computing(points) => points.iter().map(|p| p.flatten()).collect(),
+            Self::Known(curve) => curve.clone(),
+        }
+    }
+
+    /// Phases solved, of how many.
+    pub fn solved(&self) -> (usize, usize) {
+        match self {
+            Self::Computing(points) => (points.iter().flatten().count(), points.len()),
+            Self::Known(curve) => (curve.len(), curve.len()),
+        }
+    }
 }
 
 /// Counts the background threads alive: one is taken for each thread and
@@ -188,6 +213,19 @@ impl Drop for Worker {
     }
 }
 
+/// The `lambda_2(phi)` thread. Dropping it cancels the programmes not yet
+/// started; the one in progress finishes and its point goes nowhere.
+struct CurveWorker {
+    cancel: Arc<AtomicBool>,
+    rx: Receiver<(usize, Option<f64>)>,
+}
+
+impl Drop for CurveWorker {
+    fn drop(&mut self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+}
+
 /// The regime map's state.
 pub struct Regime {
     source: RegimeSource,
@@ -199,7 +237,7 @@ pub struct Regime {
     cursor: (usize, usize),
     worker: Option<Worker>,
     curve: CurveState,
-    curve_rx: Option<Receiver<Vec<Option<f64>>>>,
+    curve_worker: Option<CurveWorker>,
     alive: Arc<AtomicUsize>,
     started: bool,
     /// When the runs (re)started and how many cells were done then.
@@ -212,6 +250,7 @@ impl Regime {
     pub fn new(source: RegimeSource) -> Self {
         let initial = source.initial.clone();
         let map = RegimeMap::empty(&source.load_factors, &source.phases);
+        let map_phases = source.phases.len();
         Self {
             spec: source.spec(&initial),
             source,
@@ -219,16 +258,17 @@ impl Regime {
             map,
             cursor: (0, 0),
             worker: None,
-            curve: CurveState::Computing,
-            curve_rx: None,
+            curve: CurveState::Computing(vec![None; map_phases]),
+            curve_worker: None,
             alive: Arc::new(AtomicUsize::new(0)),
             started: false,
             clock: None,
         }
     }
 
-    /// Compute the cells not yet done (all of them the first time), and
-    /// `lambda_2(phi)` once. A computation in progress is cancelled first.
+    /// Compute the cells not yet done (all of them the first time), and,
+    /// beside them, the points of `lambda_2(phi)` not yet solved. A
+    /// computation in progress is cancelled first.
     pub fn start(&mut self) {
         self.worker = None;
         self.started = true;
@@ -258,29 +298,35 @@ impl Regime {
         self.worker = Some(Worker { interrupt, rx });
     }
 
-    /// `lambda_2` at every phase, on its own thread: it does not depend on
-    /// the transient, so it is computed once.
+    /// The points of `lambda_2(phi)` not yet solved, on a thread of their
+    /// own, started with the map's runs. The curve does not depend on the
+    /// transient, so each point is solved once.
     fn start_curve(&mut self) {
-        if !matches!(self.curve, CurveState::Computing) || self.curve_rx.is_some() {
+        let CurveState::Computing(points) = &self.curve else {
+            return;
+        };
+        if self.curve_worker.is_some() {
             return;
         }
         let Ok(spec) = &self.spec else {
             return;
         };
+        let todo: Vec<usize> = (0..points.len()).filter(|&j| points[j].is_none()).collect();
+        let phases: Vec<f64> = todo.iter().map(|&j| self.source.phases[j]).collect();
         let spec = spec.clone();
-        let phases = self.source.phases.clone();
         let (tx, rx) = mpsc::channel();
-        self.curve_rx = Some(rx);
+        let cancel = Arc::new(AtomicBool::new(false));
+        let stop = Arc::clone(&cancel);
         let alive = Alive::new(&self.alive);
         // One programme after another on this thread, not on rayon's pool,
-        // where a sweep's runs may be queued ahead of them.
+        // where the map's runs are queued ahead of them.
         std::thread::spawn(move || {
-            let curve = lambda2_curve(&spec, &phases, CURVE_SAMPLES, &AtomicBool::new(false));
-            // Counted out before the curve arrives, so that once it has,
-            // this thread no longer counts.
-            drop(alive);
-            let _ = tx.send(curve);
+            let _alive = alive;
+            lambda2_points(&spec, &phases, CURVE_SAMPLES, &stop, |i, l2| {
+                tx.send((todo[i], l2)).is_ok()
+            });
         });
+        self.curve_worker = Some(CurveWorker { cancel, rx });
     }
 
     /// Empty the map and compute it again.
@@ -305,28 +351,16 @@ impl Regime {
         }
     }
 
-    /// Stop computing (the map is left): the cells done are kept.
+    /// Stop computing (the map is left): the cells and the points of
+    /// `lambda_2` done are kept.
     pub fn pause(&mut self) {
         self.worker = None;
+        self.curve_worker = None;
     }
 
     /// Take what the background threads have sent; true if anything came.
     pub fn poll(&mut self) -> bool {
-        let mut changed = false;
-        if let Some(rx) = &self.curve_rx {
-            match rx.try_recv() {
-                Ok(curve) => {
-                    self.curve_rx = None;
-                    self.curve = CurveState::Known(curve);
-                    changed = true;
-                }
-                Err(TryRecvError::Disconnected) => {
-                    self.curve_rx = None;
-                    self.curve = CurveState::Known(vec![None; self.source.phases.len()]);
-                }
-                Err(TryRecvError::Empty) => {}
-            }
-        }
+        let mut changed = self.poll_curve();
         loop {
             let Some(worker) = &self.worker else {
                 return changed;
@@ -345,6 +379,41 @@ impl Regime {
         }
     }
 
+    /// Take the points of `lambda_2` that have arrived; true if any did.
+    /// The curve is known once its thread has ended uncancelled (a phase
+    /// whose programme failed then reads as failed).
+    fn poll_curve(&mut self) -> bool {
+        let Some(worker) = &self.curve_worker else {
+            return false;
+        };
+        let CurveState::Computing(points) = &mut self.curve else {
+            self.curve_worker = None;
+            return false;
+        };
+        let mut changed = false;
+        let ended = loop {
+            match worker.rx.try_recv() {
+                Ok((j, l2)) => {
+                    if let Some(p) = points.get_mut(j) {
+                        *p = Some(l2);
+                        changed = true;
+                    }
+                }
+                Err(TryRecvError::Empty) => break false,
+                Err(TryRecvError::Disconnected) => break true,
+            }
+        };
+        if ended {
+            let cancelled = worker.cancel.load(Ordering::Relaxed);
+            self.curve_worker = None;
+            if !cancelled {
+                self.curve = CurveState::Known(points.iter().map(|p| p.flatten()).collect());
+                changed = true;
+            }
+        }
+        changed
+    }
+
     /// A finished run: what the channel delivers, and what tests inject.
     /// A run of another transient or off the grid is ignored.
     pub fn insert(&mut self, row: &Row) {
@@ -357,7 +426,7 @@ impl Regime {
 
     /// `lambda_2(phi)`, one value per phase of the map (tests inject it).
     pub fn set_curve(&mut self, curve: Vec<Option<f64>>) {
-        self.curve_rx = None;
+        self.curve_worker = None;
         self.curve = CurveState::Known(curve);
     }
 

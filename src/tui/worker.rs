@@ -5,7 +5,13 @@
 //! run by [`stepping::drive`] with an observer; the observer stops the
 //! drive as soon as a new command arrives, so a restart cancels the work it
 //! replaces.
+//!
+//! The worker also keeps a copy of its stepper at the start of the last
+//! two cycles, so that the fretting profile of the last completed cycle
+//! ([`Command::Profile`]) is computed from the very state that cycle began
+//! with, on a thread of its own, while the run goes on.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender, SyncSender, TryRecvError};
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -16,6 +22,7 @@ use super::log::{self, At, Filter};
 use crate::analysis::case::Case;
 use crate::analysis::curves;
 use crate::analysis::episodes::{EpisodeTracker, LockedSlip};
+use crate::analysis::profile::{profile_cycle, Profile};
 use crate::contact::{Operators, SlipDirection};
 use crate::model::path::{Initial, Segment};
 use crate::stepping::{self, Control, Event, Observer, Phase, Status, StepReport, Stepper};
@@ -62,6 +69,10 @@ pub enum Command {
     /// The byte budget the stepper's own record of completed cycles may
     /// use (only a very high cycle cap can reach it).
     Budget(usize),
+    /// The fretting profile of the last completed cycle, computed on a
+    /// thread of its own ([`Reply::Profile`] answers); the run is not
+    /// interrupted.
+    Profile,
 }
 
 /// Why a drive stopped.
@@ -98,6 +109,14 @@ pub enum Reply {
     },
     /// One increment of the run, with the generation it belongs to.
     Record(Box<Record>),
+    /// The fretting profile of the last completed cycle of a run
+    /// (`Ok(None)`: no cycle was complete when it was asked for).
+    Profile {
+        /// The generation of the run it belongs to.
+        generation: u64,
+        /// The profile, or why it could not be computed.
+        profile: Result<Option<Box<Profile>>, String>,
+    },
     /// A drive ended, for whatever reason.
     Stopped {
         /// The generation of the run it belongs to.
@@ -194,6 +213,101 @@ struct Thread {
     budget: usize,
     pending: Option<Command>,
     closed: bool,
+    /// Copies of the stepper at the start of the last two cycles.
+    starts: CycleStarts,
+    /// Raised to cancel the profile being computed.
+    profile_cancel: Arc<AtomicBool>,
+}
+
+/// Up to this many nodes the copies of the cycles' starts are kept from
+/// the first cycle, so `f` shows a profile at once. A copy holds the slip
+/// set's factors, room for `N x N` (8 MiB at 1024 nodes): above that the
+/// copies are kept only once a profile has been asked for.
+const ALWAYS_KEEP_NODES: usize = 1024;
+
+/// Copies of a run's stepper where its last two cycles began: the older
+/// one began the last completed cycle (once the newer one has begun).
+struct CycleStarts {
+    /// Whether copies are kept (see [`ALWAYS_KEEP_NODES`]).
+    keep: bool,
+    previous: Option<Box<Stepper>>,
+    current: Option<Box<Stepper>>,
+}
+
+impl CycleStarts {
+    fn new(keep: bool) -> Self {
+        Self {
+            keep,
+            previous: None,
+            current: None,
+        }
+    }
+
+    /// Keep a copy of `s` if it stands at the start of a cycle not yet
+    /// kept. A copy is a few vectors of N and the factors of the slip set,
+    /// once a cycle.
+    fn note(&mut self, s: &Stepper) {
+        if !self.keep {
+            return;
+        }
+        if !matches!(s.phase(), Phase::Cycle { increment: 0, .. }) || s.is_inside_increment() {
+            return;
+        }
+        let kept = self.current.as_ref().map(|c| c.phase());
+        if kept == Some(s.phase()) {
+            return;
+        }
+        self.previous = self.current.take();
+        self.current = Some(Box::new(s.clone()));
+    }
+
+    /// The stepper at the start of the last completed cycle.
+    fn last_completed(&self) -> Option<&Stepper> {
+        self.previous.as_deref()
+    }
+}
+
+/// Compute the profile of the last completed cycle in `starts` on a thread
+/// of its own and send it as a [`Reply::Profile`]; the one in progress, if
+/// any, is cancelled.
+fn spawn_profile(
+    starts: &mut CycleStarts,
+    replies: &SyncSender<Reply>,
+    generation: u64,
+    cancel: &mut Arc<AtomicBool>,
+) {
+    cancel.store(true, Ordering::Relaxed);
+    *cancel = Arc::new(AtomicBool::new(false));
+    starts.keep = true;
+    let Some(start) = starts.last_completed() else {
+        let _ = replies.send(Reply::Profile {
+            generation,
+            profile: Ok(None),
+        });
+        return;
+    };
+    let mut stepper = start.clone();
+    let stop = Arc::clone(cancel);
+    let sender = replies.clone();
+    let spawned = std::thread::Builder::new()
+        .name("shakedown-profile".into())
+        .spawn(move || {
+            let profile = profile_cycle(&mut stepper, &stop)
+                .map(|p| p.map(Box::new))
+                .map_err(|e| e.to_string());
+            if !stop.load(Ordering::Relaxed) {
+                let _ = sender.send(Reply::Profile {
+                    generation,
+                    profile,
+                });
+            }
+        });
+    if let Err(e) = spawned {
+        let _ = replies.send(Reply::Profile {
+            generation,
+            profile: Err(format!("no thread for the profile: {e}")),
+        });
+    }
 }
 
 impl Thread {
@@ -202,6 +316,7 @@ impl Thread {
         commands: Receiver<Command>,
         replies: SyncSender<Reply>,
     ) -> Self {
+        let keep = operators.nodes() <= ALWAYS_KEEP_NODES;
         Self {
             operators,
             commands,
@@ -214,6 +329,8 @@ impl Thread {
             budget: usize::MAX,
             pending: None,
             closed: false,
+            starts: CycleStarts::new(keep),
+            profile_cancel: Arc::new(AtomicBool::new(false)),
         }
     }
 
@@ -288,6 +405,9 @@ impl Thread {
                 stepper.set_pause_at_events(self.filter.is_some_and(|f| f.inside_increments()));
                 self.generation = generation;
                 self.episodes = Some(EpisodeTracker::new(&stepper));
+                self.profile_cancel.store(true, Ordering::Relaxed);
+                self.starts = CycleStarts::new(self.starts.keep);
+                self.starts.note(&stepper);
                 let reply = Reply::Started {
                     generation,
                     transient: stepper.transient().to_vec(),
@@ -307,6 +427,12 @@ impl Thread {
                 }
             }
             Command::Budget(b) => self.budget = b,
+            Command::Profile => spawn_profile(
+                &mut self.starts,
+                &self.replies,
+                self.generation,
+                &mut self.profile_cancel,
+            ),
         }
     }
 
@@ -394,8 +520,13 @@ impl Thread {
             let replies = &self.replies;
             let pending = &mut self.pending;
             let closed = &mut self.closed;
+            let starts = &mut self.starts;
+            let profile_cancel = &mut self.profile_cancel;
             let mut observer = |s: &Stepper, report: &StepReport| -> Control {
                 episodes.observe(s, report);
+                // Before the record goes: once the UI reads that a cycle
+                // completed, its start is the one kept as `previous`.
+                starts.note(s);
                 let record = make_record(s, report, generation, &slip_before, &episodes);
                 slip_before = record
                     .detail
@@ -418,7 +549,13 @@ impl Thread {
                     why = Some(Stopped::Event(text, load));
                     return Control::Stop;
                 }
-                match commands.try_recv() {
+                // A profile is asked for without stopping the run.
+                let mut command = commands.try_recv();
+                while let Ok(Command::Profile) = command {
+                    spawn_profile(starts, replies, generation, profile_cancel);
+                    command = commands.try_recv();
+                }
+                match command {
                     Ok(c) => {
                         *pending = Some(c);
                         why = Some(Stopped::Cancelled);

@@ -45,6 +45,14 @@ fn run_goal(app: &mut App) {
     panic!("goal {:?} not reached", app.goal());
 }
 
+fn screen(app: &App, width: u16, height: u16) -> Terminal<TestBackend> {
+    let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("test backend");
+    terminal
+        .draw(|frame| ui::draw(frame, app))
+        .expect("drawing to a test backend cannot fail");
+    terminal
+}
+
 fn assert_restarted(app: &App) {
     assert_eq!(app.increments(), 0);
     assert!(app.history().is_empty());
@@ -324,6 +332,33 @@ fn check(action: Action, event: KeyEvent, mode: Mode) {
             handle(&mut app);
             assert!(!app.log_visible());
             assert_eq!(app.shown().unwrap().increment, i);
+        }
+        Action::ToggleProfile => {
+            // Before a cycle completes the panel opens and says so.
+            handle(&mut app);
+            assert!(app.profile_panel().is_visible());
+            let notice = app.notice().unwrap_or_default();
+            assert!(notice.contains("first cycle completes"), "{notice}");
+            assert!(app.profile_panel().profile().is_none());
+            // Through the transient and cycle 1: the worker profiles
+            // cycle 1 off the UI thread, and its dissipation column sums
+            // to the W the run recorded for that cycle (model.md 4.1).
+            app.apply(Action::ToCycleEnd);
+            run_goal(&mut app);
+            app.apply(Action::ToCycleEnd);
+            run_goal(&mut app);
+            wait_until(&mut app, |a| a.profile_panel().profile().is_some());
+            let profile = app.profile_panel().profile().unwrap();
+            assert_eq!(profile.cycle, 1);
+            let w = app.profile_w().expect("W of cycle 1");
+            let sum = profile.total_dissipation();
+            assert!(w > 0.0 && (sum - w).abs() <= 1e-9 * w, "{sum} against {w}");
+            let text = screen(&app, 80, 24).backend().to_string();
+            assert!(text.contains("hot spot"), "{text}");
+            handle(&mut app);
+            assert!(!app.profile_panel().is_visible());
+            let text = screen(&app, 80, 24).backend().to_string();
+            assert!(!text.contains("hot spot"), "{text}");
         }
         Action::Pin => {
             handle(&mut app);
@@ -1105,7 +1140,7 @@ fn history_is_never_called_live() {
 }
 
 /// The footer shows the keys of the view in use (as gitui does): at 200
-/// columns the stepping view's `e`, `{ }`, `k m`, `p` and `g` are all there,
+/// columns the stepping view's `e`, `{ }`, `k m`, `p`, `g` and `f` are all there,
 /// and with the log open, the log's own.
 #[test]
 fn the_footer_shows_the_keys_of_the_view() {
@@ -1124,6 +1159,7 @@ fn the_footer_shows_the_keys_of_the_view() {
         "k m kind size",
         "p pin",
         "g regime",
+        "f profile",
     ] {
         assert!(text.contains(word), "{word}: {text}");
     }

@@ -250,6 +250,40 @@ fn tiny_app() -> App {
     app
 }
 
+/// `lambda_2(phi)` starts with the map on a thread of its own, is
+/// cancelled when the map is left and resumed when it comes back: the
+/// curve it ends with is the one an uninterrupted map draws.
+#[test]
+fn the_limit_curve_starts_with_the_map_and_resumes_after_a_cancel() {
+    let mut whole = tiny_app();
+    key(&mut whole, KeyCode::Char('g'));
+    wait_until(&mut whole, 120, |a| {
+        matches!(a.regime().unwrap().curve(), CurveState::Known(_))
+    });
+    let CurveState::Known(expected) = whole.regime().unwrap().curve().clone() else {
+        unreachable!()
+    };
+    assert_eq!(expected.len(), 2);
+    assert!(expected.iter().all(Option::is_some), "{expected:?}");
+
+    let mut app = tiny_app();
+    key(&mut app, KeyCode::Char('g'));
+    assert!(app.regime().unwrap().is_running());
+    // Left at once: both threads stop (the curve's after the programme in
+    // progress), and the points already in are kept.
+    key(&mut app, KeyCode::Esc);
+    assert_eq!(app.view(), View::Stepping);
+    wait_until(&mut app, 60, |a| a.regime().unwrap().threads_alive() == 0);
+    app.tick(Duration::from_millis(8));
+    let (solved, total) = app.regime().unwrap().curve().solved();
+    assert!(solved <= total && total == 2);
+    key(&mut app, KeyCode::Char('g'));
+    wait_until(&mut app, 120, |a| {
+        matches!(a.regime().unwrap().curve(), CurveState::Known(_))
+    });
+    assert_eq!(app.regime().unwrap().curve(), &CurveState::Known(expected));
+}
+
 /// `g` in the sweep view computes the map in the background while frames
 /// go on; the arrows move over the cells and Enter opens one.
 #[test]

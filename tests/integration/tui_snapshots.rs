@@ -681,3 +681,94 @@ fn the_steady_goal_shows_its_progress() {
     assert!(text.contains("dW/W 2.50e-1 (to 1.00e-4)"), "{text}");
     assert!(text.contains("left"), "{text}");
 }
+
+/// A synthetic fretting profile of cycle 2 on `n` nodes: envelopes, slip
+/// and dissipation shaped like the real ones, with the largest Ruiz
+/// parameter at a node of its own choosing; nothing from the solver.
+fn synthetic_profile(n: usize, friction: f64) -> shakedown::analysis::profile::Profile {
+    let theta: Vec<f64> = (0..n).map(|j| 2.0 * PI * j as f64 / n as f64).collect();
+    let col = |f: &dyn Fn(f64) -> f64| theta.iter().map(|&t| f(t)).collect::<Vec<f64>>();
+    let p_max = col(&|t| 1.0 + 0.3 * t.cos());
+    let p_min = col(&|t| 0.7 + 0.2 * t.cos());
+    let q_max = col(&|t| friction * (1.0 + 0.3 * t.cos()) * (0.9 * t.sin()).max(-0.2));
+    let q_min = col(&|t| -friction * (1.0 + 0.3 * t.cos()) * (0.9 * t.cos()).max(0.1));
+    let slip_amplitude = col(&|t| 0.01 * t.sin().max(0.0).powi(2));
+    let slip_accumulated = slip_amplitude.iter().map(|a| 2.5 * a).collect();
+    let wear: Vec<f64> = slip_amplitude.iter().map(|a| 2.0 * a).collect();
+    let dissipation = wear
+        .iter()
+        .map(|w| 0.5 * friction * w * 2.0 * PI / n as f64)
+        .collect();
+    let ruiz = (0..n)
+        .map(|j| q_max[j].abs().max(q_min[j].abs()) * slip_amplitude[j])
+        .collect();
+    shakedown::analysis::profile::Profile {
+        cycle: 2,
+        theta,
+        p_min,
+        p_max,
+        q_min,
+        q_max,
+        slip_amplitude,
+        slip_accumulated,
+        dissipation,
+        ruiz,
+        wear,
+    }
+}
+
+fn profile_app(color: bool) -> App {
+    let mut app = fixed_app(color, INCREMENTS);
+    let nodes = app.case().disc().nodes();
+    app.feed_profile(synthetic_profile(nodes, 0.3));
+    app
+}
+
+/// `f`: the fretting profile of the last completed cycle replaces the
+/// bottom row, with the hot spot named in words.
+#[test]
+fn fretting_profile_80x24() {
+    let app = profile_app(true);
+    let text = screen(&app, 80, 24).backend().to_string();
+    assert!(text.contains("hot spot"), "{text}");
+    insta::assert_snapshot!(text);
+}
+
+#[test]
+fn fretting_profile_200x60() {
+    let app = profile_app(true);
+    let text = screen(&app, 200, 60).backend().to_string();
+    assert!(text.contains("hot spot (max Ruiz) at θ"), "{text}");
+    assert!(text.contains("Cycle 2: q and p envelopes"), "{text}");
+    insta::assert_snapshot!(text);
+}
+
+/// Before its first cycle completes the panel says when it will come, and
+/// it draws at any size, in ASCII and without colour.
+#[test]
+fn fretting_profile_degrades_gracefully() {
+    let mut app = fixed_app(true, 10);
+    app.apply(Action::ToggleProfile);
+    let text = screen(&app, 80, 24).backend().to_string();
+    assert!(text.contains("first cycle"), "{text}");
+    let mut ascii = profile_app(false);
+    ascii.apply(Action::Help);
+    ascii.apply(Action::Help);
+    for (w, h) in [(80, 24), (81, 25), (120, 30), (200, 60), (79, 23)] {
+        let _ = screen(&ascii, w, h);
+    }
+    let config = Config {
+        ascii: true,
+        ..config(false)
+    };
+    let case = app.case().clone();
+    let mut plain = App::new(case, config);
+    let nodes = plain.case().disc().nodes();
+    for i in 0..INCREMENTS {
+        plain.feed(synthetic(i, nodes));
+    }
+    plain.feed_profile(synthetic_profile(nodes, 0.3));
+    let text = screen(&plain, 80, 24).backend().to_string();
+    assert!(text.is_ascii(), "{text}");
+    assert!(text.contains("hot spot"), "{text}");
+}

@@ -319,9 +319,15 @@ impl Stepper {
         if matches!(self.phase, Phase::Cycle { .. }) {
             self.current.dissipation += inc.dissipation;
             if inc.slipped {
-                for (j, (f, b)) in inc.forward.iter().zip(&inc.backward).enumerate() {
-                    self.current.forward[j] += f;
-                    self.current.backward[j] += b;
+                // Slices, not indexing: with the lengths known once the
+                // compiler vectorises the sums (indexed, it reloaded each
+                // vector's pointer and length at every node).
+                let current = &mut self.current;
+                for (sum, f) in current.forward.iter_mut().zip(&inc.forward) {
+                    *sum += f;
+                }
+                for (sum, b) in current.backward.iter_mut().zip(&inc.backward) {
+                    *sum += b;
                 }
             }
         }

@@ -5,6 +5,12 @@
 //! The physics runs on the [`Worker`] thread; this file sends it commands
 //! and files what comes back in the [`History`] and the event log. The
 //! panels read the instant under the cursor ([`App::shown`]).
+//!
+//! Each view keeps its state in a struct of its own, in its module beside
+//! the keys it answers (`stepping_view.rs`, `log_view.rs`, `sweep_view.rs`,
+//! `regime_view.rs`, `profile_view.rs`, `tour.rs`); `App` holds what they
+//! share: the case, the worker and its channel, which view is shown, the
+//! notice and the questions that wait for `y`.
 
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -29,11 +35,17 @@ use crate::model::Cycle;
 use crate::stepping::{self, Phase, Status};
 
 mod log_view;
+pub mod profile_view;
 mod regime_view;
 mod stepping_view;
 mod sweep_view;
 pub mod tour;
 mod worker_side;
+
+use log_view::LogView;
+use regime_view::RegimeView;
+use stepping_view::SteppingView;
+use sweep_view::SweepView;
 
 /// `lambda` change of the arrow keys, and with Shift.
 pub const LOAD_FACTOR_STEP: f64 = 0.05;
@@ -176,7 +188,10 @@ pub struct Pinned {
     pub slip: Vec<f32>,
 }
 
-/// The explorer's whole state.
+/// The explorer's state: what every view shares (the case, the worker
+/// and its channel, which view is shown, the notice, the prompts that wait
+/// for `y`, the tour), and one state per view, each in its module beside
+/// its keys: [`SteppingView`], [`LogView`], [`SweepView`], [`RegimeView`].
 pub struct App {
     config: Config,
     case: Case,
@@ -187,51 +202,23 @@ pub struct App {
     seq: u64,
     sent: Option<worker::Goal>,
     started: bool,
-    paths: Vec<Initial>,
-    path_index: usize,
-    running: bool,
-    speed: usize,
-    goal: Option<Goal>,
-    pause_on_events: bool,
-    filter: Filter,
     help: bool,
-    log_open: bool,
-    log_selected: usize,
     quit: bool,
     exit_code: u8,
     confirm: Option<Confirm>,
-    entry: Option<String>,
-    history: History,
-    log: std::collections::VecDeque<LogEntry>,
-    log_dropped: usize,
-    cycles: Vec<(usize, f64)>,
-    transient: Vec<Segment>,
-    friction: f64,
-    /// The increment on screen; `None` follows the newest.
-    cursor: Option<usize>,
-    /// The largest `|g - mean g|` seen: the slip panel's steady scale.
-    slip_scale: f64,
-    pinned: Option<Pinned>,
-    last_event: Option<String>,
     notice: Option<String>,
-    failure: Option<String>,
     view: View,
-    sweep: Result<Sweep, String>,
-    regime: Result<Regime, String>,
-    /// Where `g` in the regime map goes back to: the view it came from.
-    regime_back: View,
-    sweep_log_w: bool,
-    sweep_saved: bool,
-    /// The file name being typed after `s` in the sweep view.
-    save_entry: Option<String>,
-    /// Where the map is being saved, while `overwrite?` waits.
-    save_path: Option<std::path::PathBuf>,
     suspend: bool,
-    save_dir: std::path::PathBuf,
     /// The guided tour, while it has the keys.
     tour: Option<tour::Tour>,
-    /// When the last few cycles completed: the time a cycle takes.
-    cycle_clock: std::collections::VecDeque<Instant>,
+    /// The run being stepped: its record, the cursor over it, the goal.
+    stepping: SteppingView,
+    /// The event log and the filter of events.
+    log_view: LogView,
+    /// The sweep's map over `lambda` (or `phi`) and its save.
+    sweep_view: SweepView,
+    /// The regime map over `(lambda, phi)`.
+    regime_view: RegimeView,
 }
 
 impl App {
@@ -261,7 +248,7 @@ impl App {
         };
         let regime = RegimeSource::builtin(&case).map(Regime::new);
         let mut app = Self {
-            history: History::new(history_share(config.history_bytes)),
+            stepping: SteppingView::new(history_share(config.history_bytes), paths, path_index),
             config,
             case,
             operators,
@@ -270,43 +257,17 @@ impl App {
             seq: 0,
             sent: None,
             started: false,
-            paths,
-            path_index,
-            running: true,
-            speed: DEFAULT_SPEED,
-            goal: None,
-            pause_on_events: false,
-            filter: Filter::default(),
             help: false,
-            log_open: false,
-            log_selected: 0,
             quit: false,
             exit_code: 0,
             confirm: None,
-            entry: None,
-            log: Default::default(),
-            log_dropped: 0,
-            cycles: Vec::new(),
-            transient: Vec::new(),
-            friction: 0.0,
-            cursor: None,
-            slip_scale: 0.0,
-            pinned: None,
-            last_event: None,
             notice: None,
-            failure: None,
             view: View::Stepping,
-            sweep: source.map(Sweep::new),
-            regime,
-            regime_back: View::Sweep,
-            sweep_log_w: true,
-            sweep_saved: false,
-            save_entry: None,
-            save_path: None,
             suspend: false,
-            save_dir: std::path::PathBuf::from("."),
             tour: None,
-            cycle_clock: Default::default(),
+            log_view: LogView::default(),
+            sweep_view: SweepView::new(source.map(Sweep::new)),
+            regime_view: RegimeView::new(regime),
         };
         app.send_restart();
         app
@@ -323,7 +284,7 @@ impl App {
     /// off the UI thread; a [`Case`] holds only resolved paths, so the
     /// case's own is the one the explorer opened with).
     pub fn initial(&self) -> &Initial {
-        &self.paths[self.path_index]
+        &self.stepping.paths[self.stepping.path_index]
     }
     /// The case being stepped, with the current `lambda` and `phi`; its
     /// initial path is [`App::initial`].
@@ -344,31 +305,31 @@ impl App {
     }
     /// The initial paths `[` and `]` cycle through.
     pub fn paths(&self) -> &[Initial] {
-        &self.paths
+        &self.stepping.paths
     }
     /// Index of the current initial path in [`App::paths`].
     pub fn path_index(&self) -> usize {
-        self.path_index
+        self.stepping.path_index
     }
     /// Whether the run steps on by itself each frame (Space).
     pub fn is_running(&self) -> bool {
-        self.running
+        self.stepping.running
     }
     /// The stopping point asked for with `c` or `s`, while it is pending.
     pub fn goal(&self) -> Option<Goal> {
-        self.goal
+        self.stepping.goal
     }
     /// Increments per frame while running.
     pub fn speed(&self) -> usize {
-        SPEEDS[self.speed]
+        SPEEDS[self.stepping.speed]
     }
     /// Whether the run pauses on events of the filter's kind (`e`).
     pub fn pauses_on_events(&self) -> bool {
-        self.pause_on_events
+        self.stepping.pause_on_events
     }
     /// Which events the log lists, `{`/`}` jump to and `e` pauses on.
     pub fn filter(&self) -> Filter {
-        self.filter
+        self.log_view.filter
     }
     /// Whether the help overlay is open.
     pub fn help_visible(&self) -> bool {
@@ -376,11 +337,11 @@ impl App {
     }
     /// Whether the event log overlay is open.
     pub fn log_visible(&self) -> bool {
-        self.log_open
+        self.log_view.log_open
     }
     /// Index of the selected row among [`App::log_entries`].
     pub fn log_selected(&self) -> usize {
-        self.log_selected
+        self.log_view.log_selected
     }
     /// Whether the loop should end and restore the terminal.
     pub fn should_quit(&self) -> bool {
@@ -396,87 +357,87 @@ impl App {
     }
     /// The typed entry in progress (after `:`).
     pub fn entry(&self) -> Option<&str> {
-        self.entry.as_deref()
+        self.stepping.entry.as_deref()
     }
     /// The file name being typed after `s` in the sweep view.
     pub fn save_entry(&self) -> Option<&str> {
-        self.save_entry.as_deref()
+        self.sweep_view.save_entry.as_deref()
     }
     /// The file `overwrite? y/N` asks about.
     pub fn save_path(&self) -> Option<&std::path::Path> {
-        self.save_path.as_deref()
+        self.sweep_view.save_path.as_deref()
     }
     /// The record of the run's increments, for scrubbing back.
     pub fn history(&self) -> &History {
-        &self.history
+        &self.stepping.history
     }
     /// Every event kept, oldest first.
     pub fn log(&self) -> &std::collections::VecDeque<LogEntry> {
-        &self.log
+        &self.log_view.log
     }
     /// Log entries dropped to stay within budget.
     pub fn log_dropped(&self) -> usize {
-        self.log_dropped
+        self.log_view.log_dropped
     }
     /// The log entries the overlay lists: those matching the filter.
     pub fn log_entries(&self) -> Vec<&LogEntry> {
-        self.log
-            .iter()
-            .filter(|e| self.filter.kind.is_none() || self.filter.matches(e))
-            .collect()
+        self.log_view.entries()
     }
     /// `(cycle, W)` of every completed cycle.
     pub fn cycles(&self) -> &[(usize, f64)] {
-        &self.cycles
+        &self.stepping.cycles
     }
     /// The transient path's segments, from the worker's start of the run.
     pub fn transient(&self) -> &[Segment] {
-        &self.transient
+        &self.stepping.transient
     }
     /// The friction coefficient of the run, from the worker's start of the run.
     pub fn friction(&self) -> f64 {
-        self.friction
+        self.stepping.friction
     }
     /// The largest `|g - mean g|` seen so far: the slip panel's steady scale.
     pub fn slip_scale(&self) -> f64 {
-        self.slip_scale
+        self.stepping.slip_scale
     }
     /// The run pinned with `p` for comparison, if any.
     pub fn pinned(&self) -> Option<&Pinned> {
-        self.pinned.as_ref()
+        self.stepping.pinned.as_ref()
     }
     /// Increments done by the run so far.
     pub fn increments(&self) -> usize {
-        self.history.newest().map_or(0, |r| r.increment + 1)
+        self.stepping
+            .history
+            .newest()
+            .map_or(0, |r| r.increment + 1)
     }
     /// The newest increment.
     pub fn latest(&self) -> Option<&Record> {
-        self.history.newest()
+        self.stepping.history.newest()
     }
     /// The increment on screen: under the cursor, or the newest.
     pub fn shown(&self) -> Option<&Record> {
-        match self.cursor {
-            Some(i) => self.history.get(i).or(self.history.newest()),
-            None => self.history.newest(),
-        }
+        self.stepping.shown()
     }
     /// The profiles on screen: the shown increment's, or the nearest
     /// earlier one that kept them (older detail is decimated).
     pub fn shown_detail(&self) -> Option<(&Record, &Detail)> {
-        self.history.detail_at(self.shown()?.increment)
+        self.stepping.history.detail_at(self.shown()?.increment)
     }
     /// `Some(increment)` while looking back at history.
     pub fn cursor(&self) -> Option<usize> {
-        self.cursor
+        self.stepping.cursor
     }
     /// The run's status as of the newest increment.
     pub fn status(&self) -> &Status {
         const RUNNING: Status = Status::Running;
-        self.history.newest().map_or(&RUNNING, |r| &r.status)
+        self.stepping
+            .history
+            .newest()
+            .map_or(&RUNNING, |r| &r.status)
     }
     /// The stepper's phase after the newest increment.
     pub fn stepper_phase(&self) -> Phase {
-        self.history.newest().map_or(
+        self.stepping.history.newest().map_or(
             match self.initial() {
                 Initial::Direct => Phase::Cycle {
                     cycle: 1,
@@ -492,19 +453,19 @@ impl App {
     }
     /// The text of the newest event, or of the solver's failure.
     pub fn last_event(&self) -> Option<&str> {
-        self.last_event.as_deref()
+        self.stepping.last_event.as_deref()
     }
     /// A message about the last thing the user did (a restart, a pause).
     pub fn notice(&self) -> Option<&str> {
         // Never `live` while an instant of the history is on screen.
-        if self.cursor.is_some() && self.notice.as_deref() == Some("live") {
+        if self.stepping.cursor.is_some() && self.notice.as_deref() == Some("live") {
             return None;
         }
         self.notice.as_deref()
     }
     /// Why the solver failed, once it has; stepping is refused until a restart.
     pub fn failure(&self) -> Option<&str> {
-        self.failure.as_deref()
+        self.stepping.failure.as_deref()
     }
     /// Which view is on screen.
     pub fn view(&self) -> View {
@@ -518,36 +479,36 @@ impl App {
         match self.view {
             View::Sweep => Mode::Sweep,
             View::Regime => Mode::Regime,
-            View::Stepping if self.log_open => Mode::Log,
+            View::Stepping if self.log_view.log_open => Mode::Log,
             View::Stepping => Mode::Stepping,
         }
     }
     /// The sweep view's sweep, or why there is none.
     pub fn sweep(&self) -> Result<&Sweep, &str> {
-        self.sweep.as_ref().map_err(String::as_str)
+        self.sweep_view.sweep.as_ref().map_err(String::as_str)
     }
     /// For tests and tools that feed rows in themselves.
     pub fn sweep_mut(&mut self) -> Option<&mut Sweep> {
-        self.sweep.as_mut().ok()
+        self.sweep_view.sweep.as_mut().ok()
     }
     /// The regime map of the sweep view, or why there is none.
     pub fn regime(&self) -> Result<&Regime, &str> {
-        self.regime.as_ref().map_err(String::as_str)
+        self.regime_view.regime.as_ref().map_err(String::as_str)
     }
     /// For tests and tools that feed runs in themselves.
     pub fn regime_mut(&mut self) -> Option<&mut Regime> {
-        self.regime.as_mut().ok()
+        self.regime_view.regime.as_mut().ok()
     }
     /// Cover another grid with the regime map (the built-in
     /// [`REGIME_PRESET`](super::regime::REGIME_PRESET)'s unless changed):
     /// tests use a small one. The map it replaces is cancelled.
     pub fn set_regime_source(&mut self, source: Result<RegimeSource, String>) {
-        self.regime = source.map(Regime::new);
+        self.regime_view.regime = source.map(Regime::new);
     }
     /// Where `s` in the sweep view saves the map (the current directory
     /// unless changed).
     pub fn set_save_dir(&mut self, dir: impl Into<std::path::PathBuf>) {
-        self.save_dir = dir.into();
+        self.sweep_view.save_dir = dir.into();
     }
     /// Ctrl-Z was pressed: the loop, which owns the terminal, suspends.
     pub fn take_suspend(&mut self) -> bool {
@@ -555,7 +516,7 @@ impl App {
     }
     /// The sweep view draws `W` on a log axis.
     pub fn sweep_log_w(&self) -> bool {
-        self.sweep_log_w
+        self.sweep_view.sweep_log_w
     }
 
     /// Show `view` without starting anything: what snapshots use.
@@ -579,18 +540,18 @@ impl App {
                     Confirm::Overwrite => self.write_sweep(true),
                 }
             } else if c == Confirm::Overwrite {
-                self.save_path = None;
+                self.sweep_view.save_path = None;
                 self.notice = Some("not saved: the file is kept".into());
             } else {
                 self.notice = Some("cancelled".into());
             }
             return;
         }
-        if self.save_entry.is_some() {
+        if self.sweep_view.save_entry.is_some() {
             self.save_entry_key(key);
             return;
         }
-        if self.entry.is_some() {
+        if self.stepping.entry.is_some() {
             self.entry_key(key);
             return;
         }
@@ -616,6 +577,7 @@ impl App {
     /// view answers its own actions.
     pub fn apply(&mut self, action: Action) {
         let _ = self.stepping_action(action)
+            || self.profile_action(action)
             || self.log_action(action)
             || self.sweep_action(action)
             || self.regime_action(action)
@@ -630,15 +592,15 @@ impl App {
             Action::Back => {
                 if self.help {
                     self.help = false;
-                } else if self.log_open {
-                    self.log_open = false;
+                } else if self.log_view.log_open {
+                    self.log_view.log_open = false;
                 } else if self.view == View::Sweep {
                     self.view = View::Stepping;
                 } else if self.view == View::Regime {
                     self.pause_regime();
                     self.view = View::Stepping;
-                } else if self.cursor.is_some() {
-                    self.cursor = None;
+                } else if self.stepping.cursor.is_some() {
+                    self.stepping.cursor = None;
                     self.notice = Some("live".into());
                 }
             }
@@ -669,7 +631,7 @@ impl App {
     pub fn request_quit(&mut self) {
         self.quit = true;
         self.worker.send(Command::Pause);
-        if let Ok(s) = &mut self.sweep {
+        if let Ok(s) = &mut self.sweep_view.sweep {
             s.cancel();
         }
         self.pause_regime();

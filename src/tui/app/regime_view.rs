@@ -2,6 +2,31 @@
 
 use super::*;
 
+/// The regime map's state: the map (or why there is none) and the view
+/// `g` goes back to.
+pub(super) struct RegimeView {
+    pub(super) regime: Result<Regime, String>,
+    /// Where `g` in the regime map goes back to: the view it came from.
+    pub(super) regime_back: View,
+}
+
+impl RegimeView {
+    /// The view of `regime`, going back to the sweep view by default.
+    pub(super) fn new(regime: Result<Regime, String>) -> Self {
+        Self {
+            regime,
+            regime_back: View::Sweep,
+        }
+    }
+
+    /// The map left: its runs and its `lambda_2` stop (what is done is kept).
+    pub(super) fn pause(&mut self) {
+        if let Ok(r) = &mut self.regime {
+            r.pause();
+        }
+    }
+}
+
 impl App {
     /// The regime map's actions; false if `action` is not one.
     pub(super) fn regime_action(&mut self, action: Action) -> bool {
@@ -16,10 +41,10 @@ impl App {
             Action::RegimeFirst => self.with_regime_mut(|r| r.move_lambda(-(isize::MAX / 2))),
             Action::RegimeLast => self.with_regime_mut(|r| r.move_lambda(isize::MAX / 2)),
             Action::RegimeOpen => self.open_regime_cell(),
-            Action::RegimePrevPath => self.regime_path(self.paths.len() - 1),
+            Action::RegimePrevPath => self.regime_path(self.stepping.paths.len() - 1),
             Action::RegimeNextPath => self.regime_path(1),
             Action::RegimeRestart => {
-                if let Ok(r) = &mut self.regime {
+                if let Ok(r) = &mut self.regime_view.regime {
                     r.restart();
                     self.notice = Some(format!(
                         "regime map of {}: computing again",
@@ -39,15 +64,15 @@ impl App {
         match self.view {
             View::Regime => {
                 self.pause_regime();
-                self.view = self.regime_back;
+                self.view = self.regime_view.regime_back;
             }
             from => {
-                self.regime_back = from;
+                self.regime_view.regime_back = from;
                 self.view = View::Regime;
-                self.log_open = false;
+                self.log_view.log_open = false;
                 self.help = false;
                 let (lambda, phi) = (self.load_factor(), self.phase());
-                match &mut self.regime {
+                match &mut self.regime_view.regime {
                     Ok(r) => {
                         if !r.started() {
                             r.move_near(lambda, phi);
@@ -72,24 +97,23 @@ impl App {
 
     /// The map left: its runs stop (the cells done are kept).
     pub(super) fn pause_regime(&mut self) {
-        if let Ok(r) = &mut self.regime {
-            r.pause();
-        }
+        self.regime_view.pause();
     }
 
     /// `[` `]` in the regime map: the map of another initial path, in the
     /// order `[` and `]` go through them in the stepping view.
     pub(super) fn regime_path(&mut self, offset: usize) {
-        let Ok(r) = &mut self.regime else {
+        let Ok(r) = &mut self.regime_view.regime else {
             return;
         };
-        let n = self.paths.len();
+        let n = self.stepping.paths.len();
         let i = self
+            .stepping
             .paths
             .iter()
             .position(|p| p == r.initial())
             .map_or(0, |i| (i + offset) % n);
-        let initial = self.paths[i].clone();
+        let initial = self.stepping.paths[i].clone();
         let name = initial.name();
         r.set_initial(initial, true);
         self.notice = Some(match r.error() {
@@ -101,7 +125,7 @@ impl App {
     /// Enter in the regime map: the case under the cursor, with the map's
     /// transient, in the stepping view.
     pub(super) fn open_regime_cell(&mut self) {
-        let Ok(r) = &self.regime else {
+        let Ok(r) = &self.regime_view.regime else {
             return;
         };
         let (lambda, phi) = r.selected();
@@ -110,7 +134,7 @@ impl App {
     }
 
     pub(super) fn with_regime_mut(&mut self, f: impl FnOnce(&mut Regime)) {
-        if let Ok(r) = &mut self.regime {
+        if let Ok(r) = &mut self.regime_view.regime {
             f(r);
         }
     }

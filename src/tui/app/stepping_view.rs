@@ -3,6 +3,79 @@
 
 use super::*;
 
+/// The stepping view's state: the run being stepped (its record, the
+/// cursor over it, the goal asked for), the paths `[` `]` go through, the
+/// prompt, the pinned run and the fretting profile panel.
+pub(super) struct SteppingView {
+    /// The initial paths `[` and `]` cycle through.
+    pub(super) paths: Vec<Initial>,
+    pub(super) path_index: usize,
+    pub(super) running: bool,
+    /// Index into [`SPEEDS`].
+    pub(super) speed: usize,
+    pub(super) goal: Option<Goal>,
+    pub(super) pause_on_events: bool,
+    /// The text typed after `:`.
+    pub(super) entry: Option<String>,
+    pub(super) history: History,
+    /// `(cycle, W)` of every completed cycle (older ones thinned).
+    pub(super) cycles: Vec<(usize, f64)>,
+    pub(super) transient: Vec<Segment>,
+    pub(super) friction: f64,
+    /// The increment on screen; `None` follows the newest.
+    pub(super) cursor: Option<usize>,
+    /// The largest `|g - mean g|` seen: the slip panel's steady scale.
+    pub(super) slip_scale: f64,
+    pub(super) pinned: Option<Pinned>,
+    pub(super) last_event: Option<String>,
+    pub(super) failure: Option<String>,
+    /// When the last few cycles completed: the time a cycle takes.
+    pub(super) cycle_clock: std::collections::VecDeque<Instant>,
+    /// The fretting profile panel (`f`).
+    pub(super) profile: profile_view::ProfilePanel,
+}
+
+impl SteppingView {
+    /// A run not yet started, running, with `history_bytes` for its
+    /// record and `paths[path_index]` as its transient.
+    pub(super) fn new(history_bytes: usize, paths: Vec<Initial>, path_index: usize) -> Self {
+        Self {
+            paths,
+            path_index,
+            running: true,
+            speed: DEFAULT_SPEED,
+            goal: None,
+            pause_on_events: false,
+            entry: None,
+            history: History::new(history_bytes),
+            cycles: Vec::new(),
+            transient: Vec::new(),
+            friction: 0.0,
+            cursor: None,
+            slip_scale: 0.0,
+            pinned: None,
+            last_event: None,
+            failure: None,
+            cycle_clock: Default::default(),
+            profile: Default::default(),
+        }
+    }
+
+    /// The increment on screen: under the cursor, or the newest.
+    pub(super) fn shown(&self) -> Option<&Record> {
+        match self.cursor {
+            Some(i) => self.history.get(i).or(self.history.newest()),
+            None => self.history.newest(),
+        }
+    }
+
+    /// Looking back pauses the run, so the instant stays put.
+    pub(super) fn pause_for_history(&mut self) {
+        self.running = false;
+        self.goal = None;
+    }
+}
+
 impl App {
     /// The stepping view's actions; false if `action` is not one.
     pub(super) fn stepping_action(&mut self, action: Action) -> bool {
@@ -13,13 +86,13 @@ impl App {
             Action::LoadFactorUpBig => self.change_load_factor(LOAD_FACTOR_BIG_STEP),
             Action::PhaseDown => self.change_phase(-1.0),
             Action::PhaseUp => self.change_phase(1.0),
-            Action::PreviousPath => self.change_path(self.paths.len() - 1),
+            Action::PreviousPath => self.change_path(self.stepping.paths.len() - 1),
             Action::NextPath => self.change_path(1),
             Action::RunPause => self.run_pause(),
             Action::StepOne => {
-                self.running = false;
-                self.goal = None;
-                self.cursor = None;
+                self.stepping.running = false;
+                self.stepping.goal = None;
+                self.stepping.cursor = None;
                 if self.can_step() {
                     self.notice = None;
                     self.go(worker::Goal::Increments(1));
@@ -30,20 +103,20 @@ impl App {
             Action::BackCycle => self.scrub_cycle(-1),
             Action::ForwardCycle => self.scrub_cycle(1),
             Action::Oldest => {
-                if let Some(i) = self.history.oldest().map(|r| r.increment) {
+                if let Some(i) = self.stepping.history.oldest().map(|r| r.increment) {
                     self.pause_for_history();
-                    self.cursor = Some(i);
+                    self.stepping.cursor = Some(i);
                     self.notice = None;
                 }
             }
             Action::Live => {
-                self.cursor = None;
+                self.stepping.cursor = None;
                 self.notice = Some("live".into());
             }
             Action::PrevEvent => self.jump_event(false),
             Action::NextEvent => self.jump_event(true),
             Action::Pin => self.pin(),
-            Action::Entry => self.entry = Some(String::new()),
+            Action::Entry => self.stepping.entry = Some(String::new()),
             Action::ToCycleEnd => self.set_goal(match self.stepper_phase() {
                 Phase::Transient { .. } => Goal::TransientEnd,
                 Phase::Cycle { cycle, .. } => Goal::CycleEnd(cycle),
@@ -61,21 +134,21 @@ impl App {
             }
             Action::Reset => {
                 self.restart("reset");
-                self.running = true;
+                self.stepping.running = true;
             }
             Action::Faster => {
-                self.speed = (self.speed + 1).min(SPEEDS.len() - 1);
+                self.stepping.speed = (self.stepping.speed + 1).min(SPEEDS.len() - 1);
                 self.notice = Some(format!("speed: {} incr/frame", self.speed()));
             }
             Action::Slower => {
-                self.speed = self.speed.saturating_sub(1);
+                self.stepping.speed = self.stepping.speed.saturating_sub(1);
                 self.notice = Some(format!("speed: {} incr/frame", self.speed()));
             }
             Action::PauseOnEvents => {
-                self.pause_on_events = !self.pause_on_events;
+                self.stepping.pause_on_events = !self.stepping.pause_on_events;
                 self.send_filter();
-                self.notice = Some(if self.pause_on_events {
-                    format!("pause on events: on ({})", self.filter.describe())
+                self.notice = Some(if self.stepping.pause_on_events {
+                    format!("pause on events: on ({})", self.log_view.filter.describe())
                 } else {
                     "pause on events: off".into()
                 });
@@ -87,26 +160,26 @@ impl App {
 
     /// Looking back pauses the run, so the instant stays put.
     pub(super) fn pause_for_history(&mut self) {
-        if self.running || self.goal.is_some() {
-            self.running = false;
-            self.goal = None;
-        }
+        self.stepping.pause_for_history();
     }
 
     pub(super) fn scrub(&mut self, delta: isize) {
-        let (Some(first), Some(last)) = (self.history.oldest(), self.history.newest()) else {
+        let (Some(first), Some(last)) = (
+            self.stepping.history.oldest(),
+            self.stepping.history.newest(),
+        ) else {
             return;
         };
         let (first, last) = (first.increment, last.increment);
-        let now = self.cursor.unwrap_or(last);
+        let now = self.stepping.cursor.unwrap_or(last);
         let to = now.saturating_add_signed(delta).clamp(first, last);
         if delta > 0 && to == last {
-            self.cursor = None;
+            self.stepping.cursor = None;
             self.notice = Some("live".into());
             return;
         }
         self.pause_for_history();
-        self.cursor = Some(to);
+        self.stepping.cursor = Some(to);
         self.notice = None;
     }
 
@@ -118,31 +191,38 @@ impl App {
     pub(super) fn jump_event(&mut self, forward: bool) {
         let now = self.shown().map_or(0, |r| r.increment);
         let found = if forward {
-            self.log
+            self.log_view
+                .log
                 .iter()
-                .find(|e| e.increment > now && self.filter.matches(e))
+                .find(|e| e.increment > now && self.log_view.filter.matches(e))
         } else {
-            self.log
+            self.log_view
+                .log
                 .iter()
                 .rev()
-                .find(|e| e.increment < now && self.filter.matches(e))
+                .find(|e| e.increment < now && self.log_view.filter.matches(e))
         };
         match found {
             Some(e) => {
                 let (i, text) = (e.increment, e.text.clone());
                 self.pause_for_history();
-                self.cursor = Some(i);
-                if self.history.newest().is_some_and(|r| r.increment == i) {
-                    self.cursor = None;
+                self.stepping.cursor = Some(i);
+                if self
+                    .stepping
+                    .history
+                    .newest()
+                    .is_some_and(|r| r.increment == i)
+                {
+                    self.stepping.cursor = None;
                 }
-                if self.log_open {
+                if self.log_view.log_open {
                     // The log follows: its selection is the event shown.
                     if let Some(k) = self
                         .log_entries()
                         .iter()
                         .position(|e| e.increment == i && e.text == text)
                     {
-                        self.log_selected = k;
+                        self.log_view.log_selected = k;
                     }
                 }
                 // The status line shows the event itself, once.
@@ -158,7 +238,7 @@ impl App {
             None => {
                 self.notice = Some(format!(
                     "no {} event {}",
-                    self.filter.describe(),
+                    self.log_view.filter.describe(),
                     if forward { "later" } else { "earlier" }
                 ))
             }
@@ -166,8 +246,8 @@ impl App {
     }
 
     pub(super) fn pin(&mut self) {
-        if self.pinned.is_some() {
-            self.pinned = None;
+        if self.stepping.pinned.is_some() {
+            self.stepping.pinned = None;
             self.notice = Some("unpinned".into());
             return;
         }
@@ -187,29 +267,29 @@ impl App {
             self.initial().name()
         );
         self.notice = Some(format!("pinned {label}: change the run to compare"));
-        self.pinned = Some(Pinned {
+        self.stepping.pinned = Some(Pinned {
             label,
             path: self.initial().name(),
             state,
-            cycles: self.cycles.clone(),
+            cycles: self.stepping.cycles.clone(),
             slip,
         });
     }
 
     pub(super) fn entry_key(&mut self, key: KeyEvent) {
-        let Some(text) = &mut self.entry else {
+        let Some(text) = &mut self.stepping.entry else {
             return;
         };
         match key.code {
             KeyCode::Esc => {
-                self.entry = None;
+                self.stepping.entry = None;
                 self.notice = Some("cancelled".into());
             }
             KeyCode::Backspace => {
                 text.pop();
             }
             KeyCode::Enter => {
-                let text = self.entry.take().unwrap_or_default();
+                let text = self.stepping.entry.take().unwrap_or_default();
                 self.apply_entry(&text);
             }
             KeyCode::Char(c) if text.len() < 40 => text.push(c),
@@ -245,12 +325,13 @@ impl App {
             },
             "path" | "initial" => {
                 match self
+                    .stepping
                     .paths
                     .iter()
                     .position(|p| p.name().eq_ignore_ascii_case(value))
                 {
                     Some(i) => {
-                        self.path_index = i;
+                        self.stepping.path_index = i;
                         self.restart(&format!("path {}", self.initial().name()));
                     }
                     // Not a named path: the user's own, `X1,Y1;X2,Y2`.
@@ -282,21 +363,21 @@ impl App {
             .collect();
         match Initial::custom_for(points, &self.case.material()) {
             Ok(initial) => {
-                let i = match self.paths.iter().position(|p| *p == initial) {
+                let i = match self.stepping.paths.iter().position(|p| *p == initial) {
                     Some(i) => i,
                     None => {
-                        self.paths.push(initial.clone());
-                        self.paths.len() - 1
+                        self.stepping.paths.push(initial.clone());
+                        self.stepping.paths.len() - 1
                     }
                 };
-                self.path_index = i;
+                self.stepping.path_index = i;
                 self.restart(&format!("path {}", self.initial().name()));
             }
             Err(e) => self.notice = Some(format!("path = X1,Y1;X2,Y2: {e}")),
         }
     }
     pub(super) fn can_step(&mut self) -> bool {
-        if let Some(f) = &self.failure {
+        if let Some(f) = &self.stepping.failure {
             self.notice = Some(format!("the solver failed ({f}); r to rerun"));
             return false;
         }
@@ -311,22 +392,22 @@ impl App {
     }
 
     pub(super) fn run_pause(&mut self) {
-        if self.running || self.goal.is_some() {
-            self.running = false;
-            self.goal = None;
+        if self.stepping.running || self.stepping.goal.is_some() {
+            self.stepping.running = false;
+            self.stepping.goal = None;
             self.notice = Some("paused".into());
         } else if self.can_step() {
-            self.running = true;
-            self.cursor = None;
+            self.stepping.running = true;
+            self.stepping.cursor = None;
             self.notice = None;
         }
     }
 
     pub(super) fn set_goal(&mut self, goal: Goal) {
         if self.can_step() {
-            self.running = false;
-            self.cursor = None;
-            self.goal = Some(goal);
+            self.stepping.running = false;
+            self.stepping.cursor = None;
+            self.stepping.goal = Some(goal);
             self.notice = Some(match goal {
                 Goal::TransientEnd => "to the end of the transient…".into(),
                 Goal::CycleEnd(c) => format!("to the end of cycle {c}…"),
@@ -388,7 +469,7 @@ impl App {
     }
 
     pub(super) fn change_path(&mut self, offset: usize) {
-        self.path_index = (self.path_index + offset) % self.paths.len();
+        self.stepping.path_index = (self.stepping.path_index + offset) % self.stepping.paths.len();
         let what = format!("path {}", self.initial().name());
         self.restart(&what);
     }
@@ -396,6 +477,7 @@ impl App {
     pub(super) fn send_restart(&mut self) {
         self.generation += 1;
         self.sent = None;
+        self.forget_profile();
         self.worker.send(Command::Restart {
             generation: self.generation,
             case: Box::new(self.case.clone()),
@@ -408,17 +490,17 @@ impl App {
     /// the running/paused choice and the pinned run.
     pub(super) fn restart(&mut self, why: &str) {
         self.send_restart();
-        self.history.clear();
-        self.log.clear();
-        self.log_dropped = 0;
-        self.log_selected = 0;
-        self.cycles.clear();
-        self.transient.clear();
-        self.cursor = None;
-        self.slip_scale = 0.0;
-        self.last_event = None;
-        self.failure = None;
-        self.goal = None;
+        self.stepping.history.clear();
+        self.log_view.log.clear();
+        self.log_view.log_dropped = 0;
+        self.log_view.log_selected = 0;
+        self.stepping.cycles.clear();
+        self.stepping.transient.clear();
+        self.stepping.cursor = None;
+        self.stepping.slip_scale = 0.0;
+        self.stepping.last_event = None;
+        self.stepping.failure = None;
+        self.stepping.goal = None;
         let from = match self.initial() {
             Initial::Slip { .. } | Initial::Optimal => "restarted at A with the prescribed slip",
             _ => "restarted from O",
@@ -456,15 +538,15 @@ impl App {
             return;
         }
         self.pause_regime();
-        self.path_index = match self.paths.iter().position(|p| *p == initial) {
+        self.stepping.path_index = match self.stepping.paths.iter().position(|p| *p == initial) {
             Some(i) => i,
             None => {
-                self.paths.push(initial.clone());
-                self.paths.len() - 1
+                self.stepping.paths.push(initial.clone());
+                self.stepping.paths.len() - 1
             }
         };
         self.view = View::Stepping;
-        self.running = true;
+        self.stepping.running = true;
         let what = format!(
             "opened lambda {}, phi {}, path {}",
             format_load_factor(load_factor),

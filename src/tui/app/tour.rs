@@ -183,11 +183,11 @@ impl App {
 
     fn go_to_stop(&mut self, stop: usize) {
         self.help = false;
-        self.log_open = false;
-        self.pinned = None;
+        self.log_view.log_open = false;
+        self.stepping.pinned = None;
         self.pause_regime();
-        self.pause_on_events = false;
-        self.filter = Filter::default();
+        self.stepping.pause_on_events = false;
+        self.log_view.filter = Filter::default();
         let mut pending = None;
         match STOPS[stop].scene {
             Scene::Case {
@@ -198,11 +198,11 @@ impl App {
             } => {
                 self.open_named(load_factor, phase, initial);
                 if let Some(n) = pause_at {
-                    self.filter = Filter {
+                    self.log_view.filter = Filter {
                         kind: Some(EventKind::AdvancingStick),
                         min_nodes: n,
                     };
-                    self.pause_on_events = true;
+                    self.stepping.pause_on_events = true;
                 }
             }
             Scene::Compare { pinned, live } => {
@@ -212,8 +212,8 @@ impl App {
             }
             Scene::Regime => {
                 self.open_named(5.0, 0.0, "OA");
-                self.running = false;
-                if let Ok(r) = &mut self.regime {
+                self.stepping.running = false;
+                if let Ok(r) = &mut self.regime_view.regime {
                     r.set_initial(Initial::Direct, false);
                 }
                 self.toggle_regime();
@@ -239,9 +239,9 @@ impl App {
     }
 
     fn run_to_steady(&mut self) {
-        self.running = false;
-        self.cursor = None;
-        self.goal = Some(Goal::Steady);
+        self.stepping.running = false;
+        self.stepping.cursor = None;
+        self.stepping.goal = Some(Goal::Steady);
     }
 
     /// The run stopped by itself (its goal reached, or ended): a compare

@@ -7,11 +7,12 @@ impl App {
     /// While `s` runs to the steady state: the cycles done, the change of
     /// `W` against the rule's tolerance, and an estimate of the time left.
     pub fn steady_progress(&self) -> Option<SteadyProgress> {
-        if self.goal != Some(Goal::Steady) {
+        if self.stepping.goal != Some(Goal::Steady) {
             return None;
         }
         let tolerance = self.case.options().convergence().tolerance();
         let changes: Vec<f64> = self
+            .stepping
             .cycles
             .windows(2)
             .rev()
@@ -19,9 +20,12 @@ impl App {
             .filter(|w| w[1].0 == w[0].0 + 1 && w[0].1 > 0.0)
             .map(|w| (w[1].1 - w[0].1).abs() / w[0].1)
             .collect();
-        let per_cycle = match (self.cycle_clock.front(), self.cycle_clock.back()) {
-            (Some(a), Some(b)) if self.cycle_clock.len() > 1 => {
-                Some((*b - *a) / (self.cycle_clock.len() - 1) as u32)
+        let per_cycle = match (
+            self.stepping.cycle_clock.front(),
+            self.stepping.cycle_clock.back(),
+        ) {
+            (Some(a), Some(b)) if self.stepping.cycle_clock.len() > 1 => {
+                Some((*b - *a) / (self.stepping.cycle_clock.len() - 1) as u32)
             }
             _ => None,
         };
@@ -33,7 +37,7 @@ impl App {
             _ => None,
         };
         let max = self.case.options().convergence().max_cycles() as f64;
-        let done = self.cycles.last().map_or(0, |c| c.0);
+        let done = self.stepping.cycles.last().map_or(0, |c| c.0);
         let cycles_left = cycles_left.map(|k| k.min((max - done as f64).max(0.0)));
         let left = match (per_cycle, cycles_left) {
             (Some(t), Some(k)) => Some(t.mul_f64(k)),
@@ -50,14 +54,14 @@ impl App {
 
     /// What the worker should be doing now.
     pub(super) fn wanted(&self) -> Option<worker::Goal> {
-        if self.view != View::Stepping || self.quit || self.failure.is_some() {
+        if self.view != View::Stepping || self.quit || self.stepping.failure.is_some() {
             return None;
         }
-        match self.goal {
+        match self.stepping.goal {
             Some(Goal::TransientEnd) => Some(worker::Goal::TransientEnd),
             Some(Goal::CycleEnd(_)) => Some(worker::Goal::CycleEnd),
             Some(Goal::Steady) => Some(worker::Goal::Steady),
-            None if self.running => Some(worker::Goal::Paced(self.speed())),
+            None if self.stepping.running => Some(worker::Goal::Paced(self.speed())),
             None => None,
         }
     }
@@ -93,14 +97,15 @@ impl App {
     /// poll the sweep, and tell the worker what to do next.
     pub fn tick(&mut self, budget: Duration) {
         let deadline = Instant::now() + budget;
-        if let Ok(s) = &mut self.sweep {
+        if let Ok(s) = &mut self.sweep_view.sweep {
             s.poll();
         }
-        if let Ok(r) = &mut self.regime {
+        if let Ok(r) = &mut self.regime_view.regime {
             r.poll();
         }
         self.started = true;
         self.sync();
+        self.ask_profile();
         for i in 0..MAX_REPLIES_PER_FRAME {
             if i % 256 == 255 && Instant::now() >= deadline {
                 break;
@@ -152,17 +157,19 @@ impl App {
 
     /// Whether the loop has stepping to do (else it can sleep longer).
     pub fn is_busy(&self) -> bool {
-        if self.sweep.as_ref().is_ok_and(|s| {
+        if self.sweep_view.sweep.as_ref().is_ok_and(|s| {
             s.is_running() || s.started() && matches!(s.limit(), LimitState::Computing)
         }) {
             return true;
         }
-        if self.regime.as_ref().is_ok_and(|r| {
-            r.is_running() || r.started() && matches!(r.curve(), CurveState::Computing)
+        if self.regime_view.regime.as_ref().is_ok_and(|r| {
+            r.is_running() || r.started() && matches!(r.curve(), CurveState::Computing(_))
         }) {
             return true;
         }
-        self.sent.is_some() || self.view == View::Stepping && (self.running || self.goal.is_some())
+        self.sent.is_some()
+            || self.view == View::Stepping
+                && (self.stepping.running || self.stepping.goal.is_some())
     }
 
     /// File `record` as if the worker had sent it (its generation is set
@@ -176,8 +183,8 @@ impl App {
     /// Set the transient and friction coefficient as the worker's start of
     /// a run does (tests, with [`App::feed`]).
     pub fn feed_started(&mut self, transient: Vec<Segment>, friction: f64) {
-        self.transient = transient;
-        self.friction = friction;
+        self.stepping.transient = transient;
+        self.stepping.friction = friction;
     }
 
     pub(super) fn take(&mut self, reply: Reply) {
@@ -187,10 +194,14 @@ impl App {
                 transient,
                 friction,
             } if generation == self.generation => {
-                self.transient = transient;
-                self.friction = friction;
+                self.stepping.transient = transient;
+                self.stepping.friction = friction;
             }
             Reply::Record(r) if r.generation == self.generation => self.file(*r),
+            Reply::Profile {
+                generation,
+                profile,
+            } if generation == self.generation => self.take_profile(profile),
             Reply::Stopped {
                 generation,
                 seq,
@@ -207,7 +218,7 @@ impl App {
         let settled = matches!(why, Stopped::Reached | Stopped::Ended);
         match why {
             Stopped::Reached => {
-                if let Some(goal) = self.goal.take() {
+                if let Some(goal) = self.stepping.goal.take() {
                     self.notice = Some(match (goal, self.status()) {
                         (Goal::Steady, Status::Steady(s) | Status::Ended(s)) => format!(
                             "steady state: {} after {} cycles",
@@ -221,9 +232,9 @@ impl App {
                 }
             }
             Stopped::Event(text, load) => {
-                self.running = false;
-                self.goal = None;
-                self.last_event = Some(text);
+                self.stepping.running = false;
+                self.stepping.goal = None;
+                self.stepping.last_event = Some(text);
                 // Inside its increment the second status line gives the
                 // event's load point; the notice keeps to the point.
                 self.notice = Some(if load.is_some() {
@@ -233,21 +244,21 @@ impl App {
                 });
             }
             Stopped::Ended => {
-                self.running = false;
-                self.goal = None;
+                self.stepping.running = false;
+                self.stepping.goal = None;
                 if let Status::Ended(s) | Status::Steady(s) = self.status() {
                     self.notice = Some(format!("the run ended: {}", s.state().as_str()));
                 }
             }
             Stopped::Failed(text) => {
-                self.running = false;
-                self.goal = None;
-                self.last_event = Some(format!("solver failed: {text}"));
-                self.failure = Some(text);
+                self.stepping.running = false;
+                self.stepping.goal = None;
+                self.stepping.last_event = Some(format!("solver failed: {text}"));
+                self.stepping.failure = Some(text);
             }
             Stopped::Memory => {
-                self.running = false;
-                self.goal = None;
+                self.stepping.running = false;
+                self.stepping.goal = None;
                 self.notice =
                     Some("paused: the record of cycles filled its share of --history-mb".into());
             }
@@ -265,34 +276,29 @@ impl App {
                 .iter()
                 .chain(d.slip_before.iter().flatten())
                 .fold(0.0f32, |m, v| m.max(v.abs()));
-            self.slip_scale = self.slip_scale.max(f64::from(m));
+            self.stepping.slip_scale = self.stepping.slip_scale.max(f64::from(m));
         }
         if let Some(c) = r.completed {
-            if self.cycles.len() >= MAX_W_CYCLES {
-                thin_older_half(&mut self.cycles);
+            if self.stepping.cycles.len() >= MAX_W_CYCLES {
+                thin_older_half(&mut self.stepping.cycles);
             }
-            self.cycles.push(c);
-            if self.cycle_clock.len() >= 4 {
-                self.cycle_clock.pop_front();
+            self.stepping.cycles.push(c);
+            if self.stepping.cycle_clock.len() >= 4 {
+                self.stepping.cycle_clock.pop_front();
             }
-            self.cycle_clock.push_back(Instant::now());
+            self.stepping.cycle_clock.push_back(Instant::now());
         }
         for e in &r.events {
-            self.last_event = Some(e.text.clone());
+            self.stepping.last_event = Some(e.text.clone());
             let max_log = (self.config.history_bytes / LOG_SHARE / LOG_ENTRY_BYTES).max(1000);
-            if self.log.len() >= max_log {
-                self.log.pop_front();
-                self.log_dropped += 1;
-                self.log_selected = self.log_selected.saturating_sub(1);
-            }
-            self.log.push_back(e.clone());
+            self.log_view.keep(e.clone(), max_log);
         }
-        self.history.push(r);
-        if let Some(c) = self.cursor {
+        self.stepping.history.push(r);
+        if let Some(c) = self.stepping.cursor {
             // The cursor's increment was dropped: hold the oldest kept.
-            if let Some(first) = self.history.oldest() {
+            if let Some(first) = self.stepping.history.oldest() {
                 if c < first.increment {
-                    self.cursor = Some(first.increment);
+                    self.stepping.cursor = Some(first.increment);
                 }
             }
         }

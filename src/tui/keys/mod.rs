@@ -83,6 +83,9 @@ pub enum Action {
     LogGo,
     /// `p`: pin the run on screen for comparison, or unpin.
     Pin,
+    /// `f`: the fretting profile of the last completed cycle in the
+    /// bottom row, or the instant's panels back.
+    ToggleProfile,
     /// `:`: open the prompt for `lambda = ...`, `phi = ...` or `path = ...`.
     Entry,
     /// `c`: run to the end of the transient or of the current cycle.
@@ -365,6 +368,9 @@ pub fn footer(mode: Mode) -> &'static [FooterItem] {
             ("g", "regime", &[A::ToggleRegime]),
             (":", "set", &[A::Entry]),
             ("v", "sweep", &[A::ToggleView]),
+            // Dropped first when the footer is short (it shows from 170
+            // columns); `?` lists it always.
+            ("f", "profile", &[A::ToggleProfile]),
             ("?", "all keys", &[A::Help]),
             ("q", "quit", &[A::Quit]),
         ],

@@ -214,4 +214,11 @@ pub const STEPPING: &[Binding] = &[
         "pin run to compare / unpin",
         Scope::Stepping,
     ),
+    bind(
+        &[ch('f')],
+        "f",
+        Action::ToggleProfile,
+        "fretting profile of last cycle",
+        Scope::Stepping,
+    ),
 ];

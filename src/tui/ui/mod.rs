@@ -5,6 +5,7 @@ mod dissipation;
 mod event_log;
 mod help;
 mod load_plane;
+mod profile;
 mod regime_view;
 mod slip;
 mod slip_map;
@@ -66,9 +67,20 @@ fn draw_screen(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         let (app, theme) = (app, theme);
         frame.render_widget(load_plane::LoadPlane { app, theme }, areas.load_plane);
         frame.render_widget(slip_map::SlipMap { app, theme }, areas.slip_map);
-        frame.render_widget(tractions::Tractions { app, theme }, areas.tractions);
-        frame.render_widget(slip::Slip { app, theme }, areas.slip);
-        frame.render_widget(dissipation::Dissipation { app, theme }, areas.dissipation);
+        if app.profile_panel().is_visible() {
+            // The fretting profile of the last completed cycle in place of
+            // the instant's profiles.
+            frame.render_widget(profile::Envelopes { app, theme }, areas.tractions);
+            frame.render_widget(profile::SlipAmplitude { app, theme }, areas.slip);
+            frame.render_widget(
+                profile::DissipationDensity { app, theme },
+                areas.dissipation,
+            );
+        } else {
+            frame.render_widget(tractions::Tractions { app, theme }, areas.tractions);
+            frame.render_widget(slip::Slip { app, theme }, areas.slip);
+            frame.render_widget(dissipation::Dissipation { app, theme }, areas.dissipation);
+        }
         frame.render_widget(status::StatusLines { app, theme }, areas.status);
         if app.log_visible() {
             let [body, _] =

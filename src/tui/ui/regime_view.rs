@@ -191,8 +191,9 @@ impl Widget for MapPanel<'_> {
             }
         }
         // lambda_2(phi): a bar in each row where it falls, beside the
-        // letters rather than over them.
-        if let (CurveState::Known(curve), true) = (regime.curve(), w >= 2) {
+        // letters rather than over them, each drawn as soon as it is solved.
+        if w >= 2 {
+            let curve = regime.curve().points();
             let lo = map.cell_bounds(0, 0).0 .0;
             let hi = map.cell_bounds(nl - 1, 0).0 .1;
             let span = (nl * w) as f64;
@@ -293,8 +294,11 @@ fn render_legend(frame: &mut Frame, area: Rect, regime: &Regime, theme: &Theme) 
         Span::styled(format!("{pending:>3}"), theme.value()),
     ]));
     let curve = match regime.curve() {
-        CurveState::Computing => " computing…",
-        CurveState::Known(_) => "",
+        c @ CurveState::Computing(_) => {
+            let (k, n) = c.solved();
+            format!(" {k}/{n}…")
+        }
+        CurveState::Known(_) => String::new(),
     };
     lines.push(Line::from(vec![
         Span::styled(format!("  {} ", theme.sym("┃", "|")), theme.value()),
@@ -345,7 +349,11 @@ fn render_details(frame: &mut Frame, area: Rect, regime: &Regime, theme: &Theme)
         }
     }
     let l2 = match regime.curve() {
-        CurveState::Computing => "computing…".to_string(),
+        CurveState::Computing(points) => match points.get(regime.cursor().1) {
+            Some(Some(Some(l))) => format!("{l:.3}"),
+            Some(Some(None)) => "failed".to_string(),
+            _ => "computing…".to_string(),
+        },
         CurveState::Known(curve) => curve
             .get(regime.cursor().1)
             .copied()
