@@ -148,6 +148,20 @@ pub fn design(args: DesignArgs) -> Result<ExitCode> {
             ))));
         }
     }
+    // The search is the paper's question, on its ellipse: a polyline has
+    // no phi, and the search needs one.
+    let polyline = match (args.case.given("cycle"), args.case.preset()?) {
+        (Some(c), _) => Some(format!("--cycle {c}")),
+        (None, Some(p)) if p.params.cycle.is_some() => {
+            Some(format!("--preset {}: its cycle", p.name))
+        }
+        _ => None,
+    };
+    if let Some(what) = polyline {
+        return Err(anyhow!(InputError(format!(
+            "{what}: design searches transients for the paper's elliptical cycle (docs/model.md section 10), not a polyline: drop it"
+        ))));
+    }
     let seed: u64 = number("seed", &args.seed, "0 to 18446744073709551615")?;
     let family = family(&args.family)?;
     let frontier_mode = args.frontier;
@@ -551,7 +565,7 @@ fn run_frontier(args: &DesignArgs, vertices: usize, budget: Budget, gap: f64) ->
 /// with `K <= 8`, as `design --frontier`, and the frontier's default budget) drawn as design.svg and
 /// design.png.
 pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
-    use shakedown::figure::design::DesignPlot;
+    use shakedown::figure::{design::DesignPlot, Frame};
     use shakedown::io::csv::Metadata;
     use shakedown::io::design::read_frontier_csv;
     use shakedown::io::parse::parse_point;
@@ -627,14 +641,16 @@ pub fn figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
         rows: &rows,
         center: shakedown::LoadPoint::new(center.0, center.1),
         slope,
-        title: format!(
-            "Designed transients: N = {}, {} increments per cycle, φ = {}",
-            meta.get("nodes").unwrap_or("?"),
-            meta.get("steps").unwrap_or("?"),
-            meta.get("phi").unwrap_or("?")
-        ),
-        show_title: args.title,
-        style,
+        frame: Frame {
+            title: format!(
+                "Designed transients: N = {}, {} increments per cycle, φ = {}",
+                meta.get("nodes").unwrap_or("?"),
+                meta.get("steps").unwrap_or("?"),
+                meta.get("phi").unwrap_or("?")
+            ),
+            show_title: args.title,
+            style,
+        },
     };
     super::figure::write_plot(&plot, &svg, &png)?;
     errln!(

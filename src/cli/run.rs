@@ -242,7 +242,7 @@ fn readable(p: &CaseParams, s: &Outcome, history: &[f64]) -> String {
 /// beside the plot.
 pub fn profile_figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
     use anyhow::anyhow;
-    use shakedown::figure::ProfilePlot;
+    use shakedown::figure::{Frame, ProfilePlot};
     use shakedown::io::output::is_nonempty_file;
     use std::path::PathBuf;
 
@@ -277,11 +277,38 @@ pub fn profile_figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
     }
     let (profile, friction, title) = match &args.from {
         Some(from) => {
+            // The profile is drawn as it was run: a model or case flag
+            // would not change it, so it is refused rather than ignored.
+            let model = ["psi", "center", "friction", "nu", "plane", "nodes", "steps"]
+                .into_iter()
+                .chain(["max-cycles"])
+                .find_map(|f| args.model.given(f).map(|v| (f, v)));
+            let lists = &args.lists;
+            let case = [
+                ("lambda", &lists.lambdas),
+                ("phi", &lists.phis),
+                ("initial", &lists.initials),
+                ("initial-slip", &lists.initial_slip),
+                ("initial-path", &lists.initial_path),
+            ]
+            .into_iter()
+            .find_map(|(f, v)| v.clone().map(|v| (f, v)));
+            let run_out = args.model.run_out.then(|| ("run-out", String::new()));
+            if let Some((flag, v)) = model.or(case).or(run_out) {
+                return Err(bad(format!(
+                    "--{flag} {v}: figure profile --from draws the profile as it was run (its header says how): drop --{flag}"
+                )));
+            }
             let shown = shakedown::io::read::escape_text(&from.display().to_string(), 200);
             let text = shakedown::io::read::read_text_capped(from, 64 << 20)
                 .map_err(|e| bad(format!("--from {shown}: {e}")))?;
             let (meta, profile) = shakedown::io::profile::read_profile_csv(&text)
                 .map_err(|e| bad(format!("--from {shown}: {e}")))?;
+            // The profile is drawn without its cycle (the caption names
+            // it from the header), but a --cycle given must be that one.
+            if let Some(c) = &args.model.cycle {
+                super::figure::check_cycle(from, &meta, Some(&super::cycle_file(c)?))?;
+            }
             let friction = meta
                 .get("friction")
                 .and_then(|f| f.trim().parse::<f64>().ok())
@@ -335,9 +362,11 @@ pub fn profile_figure(args: &super::figure::FigureArgs) -> Result<ExitCode> {
     let plot = ProfilePlot {
         profile: &profile,
         friction,
-        title,
-        show_title: args.title,
-        style,
+        frame: Frame {
+            title,
+            show_title: args.title,
+            style,
+        },
     };
     super::figure::write_plot(&plot, &file(".svg"), &file(".png"))?;
     outln!(

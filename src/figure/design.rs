@@ -11,7 +11,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::style::{
-    padded, pi_label, s, Drawing, FigureStyle, Key, Pattern, Pen, Sample, GREY, LIGHT_GREY, PALETTE,
+    padded, pi_label, s, Figure, FigureStyle, Frame, Key, Pattern, Pen, Sample, GREY, LIGHT_GREY,
+    PALETTE,
 };
 use crate::io::design::FrontierRecord;
 use crate::model::path::Initial;
@@ -26,13 +27,8 @@ pub struct DesignPlot<'a> {
     /// The slope `psi` of the load line (the cycle of the best path is drawn
     /// for `phi = 0`).
     pub slope: f64,
-    /// What the figure shows (its caption; drawn on it only with
-    /// `show_title`).
-    pub title: String,
-    /// Draw the title on the figure (`--title`).
-    pub show_title: bool,
-    /// Where the figure goes (`--style`).
-    pub style: FigureStyle,
+    /// Its style and title.
+    pub frame: Frame,
 }
 
 impl DesignPlot<'_> {
@@ -74,25 +70,15 @@ impl DesignPlot<'_> {
             lambdas.clone().fold(f64::MAX, f64::min),
             lambdas.fold(f64::MIN, f64::max),
         );
-        let f = pen.text_pt();
-        let mut chart = ChartBuilder::on(area)
-            .margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.0 * f))
+        let mut chart = pen
+            .chart(area)
             .build_cartesian_2d(0.5..kmax + 0.5, y0..y1)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc("vertices K of O → P1 → … → PK → A")
             .y_desc("λ")
             .x_labels(kmax as usize)
             .x_label_formatter(&|v| format!("{v:.0}"))
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
         for (k, (name, _)) in Self::REFS.into_iter().enumerate() {
@@ -140,29 +126,19 @@ impl DesignPlot<'_> {
             .flat_map(|r| r.path.iter().map(|p| p.x().abs()))
             .fold(two_pi, f64::max)
             * 1.05;
-        let f = pen.text_pt();
-        let mut chart = ChartBuilder::on(area)
-            .margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.0 * f))
+        let mut chart = pen
+            .chart(area)
             // Coordinates in units of pi, so that the ticks fall on whole
             // multiples of pi and the gross-slip lines sit on a tick.
             .build_cartesian_2d(-xr / PI..xr / PI, -2.2..2.2)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc("x (force)")
             .y_desc("y (torque)")
             .x_labels(2 * (xr / PI).floor() as usize + 1)
             .y_labels(5)
             .x_label_formatter(&pi_label)
             .y_label_formatter(&pi_label)
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
         let diamond = vec![(2.0, 0.0), (0.0, 2.0), (-2.0, 0.0), (0.0, -2.0), (2.0, 0.0)];
@@ -256,6 +232,12 @@ impl DesignPlot<'_> {
             .map(|r| r.lambda)
             .reduce(f64::max)
     }
+}
+
+impl Figure for DesignPlot<'_> {
+    fn frame(&self) -> &Frame {
+        &self.frame
+    }
 
     /// The key: only what the two panels show.
     fn key(&self) -> Key {
@@ -295,43 +277,22 @@ impl DesignPlot<'_> {
         key
     }
 
-    fn panel_aspect(&self) -> f64 {
-        match self.style {
-            FigureStyle::Paper1Col => 1.6,
-            _ => 0.45,
-        }
-    }
-}
-
-impl Drawing for DesignPlot<'_> {
-    fn style(&self) -> FigureStyle {
-        self.style
+    fn plots_aspect(&self) -> f64 {
+        self.frame.one_column_or(1.6, 0.45)
     }
 
-    fn aspect(&self) -> f64 {
-        self.key()
-            .figure_aspect(self.style, self.panel_aspect(), self.show_title)
+    fn caption_tail(&self) -> String {
+        ". Left: the highest λ at which a found path O → P1 → … → PK → A shakes down, against its number of vertices K, per family, beside λ₁, the best of the paper's 25 transients and λ₂. Right: the best path of each family on the load plane, with the initial stick region, the gross-slip lines, the paper's 24 turning points (crosses) and the steady cycle at the highest λ found.".to_string()
     }
 
-    fn caption(&self) -> String {
-        let mut text = self.title.trim_end_matches('.').to_string();
-        text.push_str(". Left: the highest λ at which a found path O → P1 → … → PK → A shakes down, against its number of vertices K, per family, beside λ₁, the best of the paper's 25 transients and λ₂. Right: the best path of each family on the load plane, with the initial stick region, the gross-slip lines, the paper's 24 turning points (crosses) and the steady cycle at the highest λ found.");
-        text
-    }
-
-    fn title(&self) -> Option<&str> {
-        self.show_title.then_some(self.title.as_str())
-    }
-
-    fn draw<DB: DrawingBackend>(
+    fn draw_plots<DB: DrawingBackend>(
         &self,
-        root: &DrawingArea<DB, Shift>,
+        plots: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
-        let w = root.dim_in_pixel().0;
-        let plots = self.key().draw_below(root, self.style, pen)?;
+        let w = plots.dim_in_pixel().0;
         // One column: the panels one above the other.
-        let (first, second) = if self.style == FigureStyle::Paper1Col {
+        let (first, second) = if self.frame.style == FigureStyle::Paper1Col {
             plots.split_vertically(plots.dim_in_pixel().1 / 2)
         } else {
             plots.split_horizontally(w / 2)

@@ -11,8 +11,8 @@ use plotters::prelude::*;
 
 use super::data::SweepPoint;
 use super::style::{
-    decades, glyph, optimal_glyph, padded, pow10_label, readable, s, Drawing, FigureStyle, Key,
-    LinearAxis, Mark, Pattern, Pen, Sample, GREY, LIGHT_GREY, PALETTE, W_LABEL,
+    decades, glyph, optimal_glyph, padded, pow10_label, readable, s, Figure, FigureStyle, Frame,
+    Key, LinearAxis, Mark, Pattern, Pen, Sample, GREY, LIGHT_GREY, PALETTE, W_LABEL,
 };
 use crate::analysis::sweep::Axis;
 use crate::io::preset::RatchettingMarkers;
@@ -31,13 +31,8 @@ pub struct DissipationPlot<'a> {
     /// a second panel then shows `W` on a log axis, so every series can be
     /// read.
     pub lines: bool,
-    /// What the figure shows, in words: the start of its caption.
-    pub title: String,
-    /// Draw the title on the figure (for slides); by default it goes only
-    /// into the caption.
-    pub show_title: bool,
-    /// Where the figure goes.
-    pub style: FigureStyle,
+    /// Its style and title.
+    pub frame: Frame,
     /// `lambda_2` to mark (against `lambda` only).
     pub limit: Option<f64>,
 }
@@ -180,13 +175,35 @@ impl DissipationPlot<'_> {
         (l3 > a && l3 < b).then_some(l3)
     }
 
+    /// Whether `p` is drawn as an optimal-slip diamond: runs that end or
+    /// do not converge keep their state's mark.
+    fn diamond(&self, p: &Drawn<'_>) -> bool {
+        p.3.is_optimal() && !(p.2.at_zero() || p.2 == Mark::NotConverged)
+    }
+
+    /// Height of a panel over the figure's width, on paper.
+    fn panel_aspect(&self) -> f64 {
+        match self.frame.style {
+            // Two panels and the key in about 90 x 110 mm.
+            FigureStyle::Paper1Col if self.two_panels() => 0.44,
+            FigureStyle::Paper1Col => 0.72,
+            _ => 0.5,
+        }
+    }
+}
+
+impl Figure for DissipationPlot<'_> {
+    fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
     /// The key: exactly what the figure shows.
     fn key(&self) -> Key {
         let mut key = Key::default();
         let pts = self.drawn();
         // A journal column fits two columns of key only with short labels;
         // the caption says what they abbreviate.
-        let short = self.style == FigureStyle::Paper1Col;
+        let short = self.frame.style == FigureStyle::Paper1Col;
         let text = |long: &'static str, brief: &'static str| if short { brief } else { long };
         if self.lines {
             for (k, other) in self.others().iter().enumerate() {
@@ -258,37 +275,13 @@ impl DissipationPlot<'_> {
         key
     }
 
-    /// Whether `p` is drawn as an optimal-slip diamond: runs that end or
-    /// do not converge keep their state's mark.
-    fn diamond(&self, p: &Drawn<'_>) -> bool {
-        p.3.is_optimal() && !(p.2.at_zero() || p.2 == Mark::NotConverged)
-    }
-
-    /// Height of a panel over the figure's width, on paper.
-    fn panel_aspect(&self) -> f64 {
-        match self.style {
-            // Two panels and the key in about 90 x 110 mm.
-            FigureStyle::Paper1Col if self.two_panels() => 0.44,
-            FigureStyle::Paper1Col => 0.72,
-            _ => 0.5,
-        }
-    }
-}
-
-impl Drawing for DissipationPlot<'_> {
-    fn style(&self) -> FigureStyle {
-        self.style
-    }
-
-    fn aspect(&self) -> f64 {
+    fn plots_aspect(&self) -> f64 {
         let panels = if self.two_panels() { 2.0 } else { 1.0 };
-        self.key()
-            .figure_aspect(self.style, panels * self.panel_aspect(), self.show_title)
+        panels * self.panel_aspect()
     }
 
-    fn caption(&self) -> String {
-        let mut text = self.title.trim_end_matches('.').to_string();
-        text.push('.');
+    fn caption_tail(&self) -> String {
+        let mut text = ".".to_string();
         if let Some((a, b)) = self.window() {
             text.push_str(&format!(
                 " (a) W on a linear axis, as in the paper. (b) W on a log axis over λ = {} to {}, where the transients disagree; shakedown (W = 0) is not shown there.",
@@ -312,22 +305,16 @@ impl Drawing for DissipationPlot<'_> {
         text
     }
 
-    fn title(&self) -> Option<&str> {
-        self.show_title.then_some(self.title.as_str())
-    }
-
-    fn draw<DB: DrawingBackend>(
+    fn draw_plots<DB: DrawingBackend>(
         &self,
-        root: &DrawingArea<DB, Shift>,
+        plots: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
-        let w = root.dim_in_pixel().0;
-        let plots = self.key().draw_below(root, self.style, pen)?;
         if !self.two_panels() {
-            return self.linear(&plots, pen, None, false);
+            return self.linear(plots, pen, None, false);
         }
-        let (a, b) = if self.style == FigureStyle::Slide {
-            plots.split_horizontally(w / 2)
+        let (a, b) = if self.frame.style == FigureStyle::Slide {
+            plots.split_horizontally(plots.dim_in_pixel().0 / 2)
         } else {
             let ph = plots.dim_in_pixel().1;
             plots.split_vertically(ph / 2)
@@ -353,11 +340,8 @@ impl DissipationPlot<'_> {
         letter: &str,
     ) -> ChartBuilder<'a, 'a, DB> {
         let f = pen.text_pt();
-        let mut b = ChartBuilder::on(area);
-        b.margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.6 * f));
+        let mut b = pen.chart(area);
+        b.y_label_area_size(pen.px(4.6 * f));
         if !letter.is_empty() {
             b.caption(letter, pen.text());
         }
@@ -387,15 +371,9 @@ impl DissipationPlot<'_> {
             .build_cartesian_2d(x0..x1, 0.0..y1)
             .map_err(s)?;
         let y_desc = axis.title(W_LABEL);
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc(self.x_desc())
             .y_desc(y_desc)
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * pen.text_pt()))
             .y_labels(axis.ticks)
             .y_label_formatter(&|v| axis.label(*v))
             .draw()
@@ -539,15 +517,9 @@ impl DissipationPlot<'_> {
         let mut chart = Self::frame(area, pen, "(b)")
             .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc(x_desc)
             .y_desc(W_LABEL)
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * pen.text_pt()))
             .y_label_formatter(&pow10_label)
             .draw()
             .map_err(s)?;
@@ -661,9 +633,11 @@ impl DissipationPlot<'_> {
         self.draw_marks(&mut chart, pen, &pts)
     }
 }
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::figure::Drawing;
 
     fn p(l: f64, initial: &str, state: SteadyState, w: f64) -> SweepPoint {
         SweepPoint {
@@ -723,9 +697,11 @@ mod tests {
             axis: Axis::Lambda,
             ratchetting,
             lines: false,
-            title: "Fig. 3".into(),
-            show_title: false,
-            style,
+            frame: Frame {
+                title: "Fig. 3".into(),
+                show_title: false,
+                style,
+            },
             limit: Some(4.5),
         };
         let one = plot(FigureStyle::Paper1Col, RatchettingMarkers::Monotonicity);

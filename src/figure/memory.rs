@@ -3,9 +3,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::style::{
-    padded, readable, s, Drawing, FigureStyle, Key, Pattern, Pen, Sample, DARK_RED, GREY,
-};
+use super::style::{padded, readable, s, Figure, Frame, Key, Pattern, Pen, Sample, DARK_RED, GREY};
 use crate::analysis::memory::{ratchetting_onset, MemoryPoint};
 
 /// Points of one curve, `(lambda, value)`.
@@ -15,12 +13,8 @@ type Series = Vec<(f64, f64)>;
 pub struct MemoryPlot<'a> {
     /// One point per `lambda`.
     pub points: &'a [MemoryPoint],
-    /// What the figure shows, in words: the start of its caption.
-    pub title: String,
-    /// Draw the title on the figure (for slides).
-    pub show_title: bool,
-    /// Where the figure goes.
-    pub style: FigureStyle,
+    /// Its style and title.
+    pub frame: Frame,
     /// `lambda_2` to mark.
     pub limit: Option<f64>,
 }
@@ -60,6 +54,12 @@ impl MemoryPlot<'_> {
             .collect();
         (big_r, small_r)
     }
+}
+
+impl Figure for MemoryPlot<'_> {
+    fn frame(&self) -> &Frame {
+        &self.frame
+    }
 
     fn key(&self) -> Key {
         let (big_r, small_r) = self.series();
@@ -79,43 +79,23 @@ impl MemoryPlot<'_> {
         key
     }
 
-    fn panel_aspect(&self) -> f64 {
-        match self.style {
-            FigureStyle::Paper1Col => 0.75,
-            _ => 0.55,
-        }
-    }
-}
-
-impl Drawing for MemoryPlot<'_> {
-    fn style(&self) -> FigureStyle {
-        self.style
+    fn plots_aspect(&self) -> f64 {
+        self.frame.one_column_or(0.75, 0.55)
     }
 
-    fn aspect(&self) -> f64 {
-        self.key()
-            .figure_aspect(self.style, self.panel_aspect(), self.show_title)
-    }
-
-    fn caption(&self) -> String {
-        let mut text = self.title.trim_end_matches('.').to_string();
-        text.push_str(". R, the spread of W over the transients (black, circles), and r, the fraction of the interface that slipped in OIA and stays stuck after A (red, triangles), against λ.");
+    fn caption_tail(&self) -> String {
+        let mut text = ". R, the spread of W over the transients (black, circles), and r, the fraction of the interface that slipped in OIA and stays stuck after A (red, triangles), against λ.".to_string();
         for (v, name) in self.marks() {
             text.push_str(&format!(" {name} = {}.", readable(v)));
         }
         text
     }
 
-    fn title(&self) -> Option<&str> {
-        self.show_title.then_some(self.title.as_str())
-    }
-
-    fn draw<DB: DrawingBackend>(
+    fn draw_plots<DB: DrawingBackend>(
         &self,
-        root: &DrawingArea<DB, Shift>,
+        plots: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
-        let root = self.key().draw_below(root, self.style, pen)?;
         let (x0, x1) = self.x_range();
         let (big_r, small_r) = self.series();
         let ymax = big_r
@@ -125,23 +105,13 @@ impl Drawing for MemoryPlot<'_> {
             .fold(0.0, f64::max)
             .max(0.1)
             * 1.05;
-        let f = pen.text_pt();
-        let mut chart = ChartBuilder::on(&root)
-            .margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.0 * f))
+        let mut chart = pen
+            .chart(plots)
             .build_cartesian_2d(x0..x1, 0.0..ymax)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc("λ")
             .y_desc("R,  r")
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
         let (r, black, red) = (pen.mark(0.8), pen.line(BLACK, 1.5), pen.line(DARK_RED, 1.5));

@@ -34,7 +34,7 @@ pub use memory::MemoryPlot;
 pub use profile::ProfilePlot;
 pub use regime::RegimePlot;
 pub use slip_map::{SlipMapPlot, TimeOrigin};
-pub use style::{write_svg_png, Drawing, FigureStyle, Pen};
+pub use style::{write_svg_png, Drawing, FigureStyle, Frame, Pen};
 
 use crate::analysis::limit::LimitError;
 use crate::analysis::memory::MemoryError;

@@ -14,7 +14,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::style::{
-    readable, s, Drawing, FigureStyle, Key, Pattern, Pen, Sample, DARK_BLUE, DARK_RED, GREEN_LINE,
+    readable, s, Figure, Frame, Key, Pattern, Pen, Sample, DARK_BLUE, DARK_RED, GREEN_LINE,
 };
 use crate::analysis::profile::Profile;
 
@@ -24,12 +24,8 @@ pub struct ProfilePlot<'a> {
     pub profile: &'a Profile,
     /// The friction coefficient `f`, for the band `|q| <= f p`.
     pub friction: f64,
-    /// What the figure shows, in words: the start of its caption.
-    pub title: String,
-    /// Draw the title on the figure (for slides).
-    pub show_title: bool,
-    /// Where the figure goes.
-    pub style: FigureStyle,
+    /// Its style and title.
+    pub frame: Frame,
 }
 
 /// One curve: its points `(theta / pi, value)`, colour and pattern.
@@ -97,38 +93,6 @@ impl ProfilePlot<'_> {
         .collect()
     }
 
-    fn key(&self) -> Key {
-        let mut key = Key::default();
-        key.push(
-            Sample::Line(Pattern::Solid, BLACK, 1.5),
-            "p: least and largest over the cycle",
-        );
-        key.push(
-            Sample::Line(Pattern::Solid, DARK_RED, 1.5),
-            "q: least and largest over the cycle",
-        );
-        key.push(Sample::Line(Pattern::Dashed, DARK_RED, 1.0), "±f p_max");
-        key.push(
-            Sample::Line(Pattern::Solid, BLACK, 1.5),
-            "slip amplitude (half the range of g)",
-        );
-        key.push(
-            Sample::Line(Pattern::Dashed, DARK_BLUE, 1.5),
-            "slip path Σ|Δg|",
-        );
-        for ((_, colour, pattern), label) in self.damage() {
-            key.push(Sample::Line(pattern, colour, 1.5), label);
-        }
-        key
-    }
-
-    fn panel_aspect(&self) -> f64 {
-        match self.style {
-            FigureStyle::Paper1Col => 1.5,
-            _ => 1.0,
-        }
-    }
-
     /// One panel: `curves` against `theta / pi` in `area`, labelled `y`.
     fn panel<DB: DrawingBackend>(
         area: &DrawingArea<DB, Shift>,
@@ -157,15 +121,9 @@ impl ProfilePlot<'_> {
             .y_label_area_size(pen.px(4.6 * f))
             .build_cartesian_2d(0.0..2.0, lo..hi)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc(if x_label { "θ / π" } else { "" })
             .y_desc(y)
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
         for (points, colour, pattern) in curves {
@@ -175,37 +133,54 @@ impl ProfilePlot<'_> {
     }
 }
 
-impl Drawing for ProfilePlot<'_> {
-    fn style(&self) -> FigureStyle {
-        self.style
+impl Figure for ProfilePlot<'_> {
+    fn frame(&self) -> &Frame {
+        &self.frame
     }
 
-    fn aspect(&self) -> f64 {
-        self.key()
-            .figure_aspect(self.style, self.panel_aspect(), self.show_title)
+    fn key(&self) -> Key {
+        let mut key = Key::default();
+        key.push(
+            Sample::Line(Pattern::Solid, BLACK, 1.5),
+            "p: least and largest over the cycle",
+        );
+        key.push(
+            Sample::Line(Pattern::Solid, DARK_RED, 1.5),
+            "q: least and largest over the cycle",
+        );
+        key.push(Sample::Line(Pattern::Dashed, DARK_RED, 1.0), "±f p_max");
+        key.push(
+            Sample::Line(Pattern::Solid, BLACK, 1.5),
+            "slip amplitude (half the range of g)",
+        );
+        key.push(
+            Sample::Line(Pattern::Dashed, DARK_BLUE, 1.5),
+            "slip path Σ|Δg|",
+        );
+        for ((_, colour, pattern), label) in self.damage() {
+            key.push(Sample::Line(pattern, colour, 1.5), label);
+        }
+        key
     }
 
-    fn caption(&self) -> String {
-        let mut text = self.title.trim_end_matches('.').to_string();
-        text.push_str(&format!(
+    fn plots_aspect(&self) -> f64 {
+        self.frame.one_column_or(1.5, 1.0)
+    }
+
+    fn caption_tail(&self) -> String {
+        format!(
             ". The fretting profile of cycle {} against θ: top, the envelopes of the contact pressure p and the shear q over the cycle, with the friction bound ±f p_max (f = {}); middle, the slip amplitude and the slip path; bottom, the dissipation density, the Ruiz parameter and the Archard wear, each over its own peak. W = {}.",
             self.profile.cycle,
             readable(self.friction),
             readable(self.profile.total_dissipation())
-        ));
-        text
+        )
     }
 
-    fn title(&self) -> Option<&str> {
-        self.show_title.then_some(self.title.as_str())
-    }
-
-    fn draw<DB: DrawingBackend>(
+    fn draw_plots<DB: DrawingBackend>(
         &self,
-        root: &DrawingArea<DB, Shift>,
+        plots: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
-        let plots = self.key().draw_below(root, self.style, pen)?;
         let panels = plots.split_evenly((3, 1));
         let p = self.profile;
         let bound: Vec<f64> = p.p_max.iter().map(|v| self.friction * v).collect();

@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::style::{pow10_label, s, Drawing, FigureStyle, Key, Mark, Pattern, Pen, Sample};
+use super::style::{pow10_label, s, Figure, Frame, Key, Mark, Pattern, Pen, Sample};
 use crate::analysis::regime::RegimeMap;
 use crate::io::preset::RatchettingMarkers;
 use crate::palette::{shade, Rgb, Shading};
@@ -19,12 +19,8 @@ pub struct RegimePlot<'a> {
     pub map: &'a RegimeMap,
     /// `(phi, lambda_2)` pairs, ascending in `phi`.
     pub limit: &'a [(f64, f64)],
-    /// What the figure shows, in words: the start of its caption.
-    pub title: String,
-    /// Draw the title on the figure (for slides).
-    pub show_title: bool,
-    /// Where the figure goes.
-    pub style: FigureStyle,
+    /// Its style and title.
+    pub frame: Frame,
     /// Mark the lines of the paper's Figs. 3 (`phi = 0`), 6 (`lambda = 5.1`)
     /// and 8 (`phi = pi/2`), where they cross the map.
     pub paper_lines: bool,
@@ -73,6 +69,36 @@ impl RegimePlot<'_> {
             pow10_or_value(whi)
         )
     }
+}
+
+/// The state a mark stands for on the map (not for [`Mark::Failed`]).
+fn state_of(mark: Mark) -> crate::stepping::steady::SteadyState {
+    use crate::stepping::steady::SteadyState as S;
+    match mark {
+        Mark::Shakedown => S::Shakedown,
+        Mark::CyclicSlip => S::CyclicSlip,
+        Mark::Ratchetting | Mark::Monotonic => S::RatchettingMonotonic,
+        Mark::NonMonotonic => S::RatchettingNonMonotonic,
+        Mark::GrossSlip => S::GrossSlip,
+        Mark::Separation => S::Separation,
+        Mark::NotConverged | Mark::Failed => S::NotConverged,
+    }
+}
+
+/// `10⁻⁵` for a power of ten, else the value rounded for reading.
+fn pow10_or_value(v: f64) -> String {
+    let p = pow10_label(&v);
+    if p.is_empty() {
+        super::style::readable(v)
+    } else {
+        p
+    }
+}
+
+impl Figure for RegimePlot<'_> {
+    fn frame(&self) -> &Frame {
+        &self.frame
+    }
 
     fn key(&self) -> Key {
         let mut key = Key::default();
@@ -113,49 +139,14 @@ impl RegimePlot<'_> {
         key.push(Sample::Text, self.shading_note());
         key
     }
-}
 
-/// The state a mark stands for on the map (not for [`Mark::Failed`]).
-fn state_of(mark: Mark) -> crate::stepping::steady::SteadyState {
-    use crate::stepping::steady::SteadyState as S;
-    match mark {
-        Mark::Shakedown => S::Shakedown,
-        Mark::CyclicSlip => S::CyclicSlip,
-        Mark::Ratchetting | Mark::Monotonic => S::RatchettingMonotonic,
-        Mark::NonMonotonic => S::RatchettingNonMonotonic,
-        Mark::GrossSlip => S::GrossSlip,
-        Mark::Separation => S::Separation,
-        Mark::NotConverged | Mark::Failed => S::NotConverged,
-    }
-}
-
-/// `10⁻⁵` for a power of ten, else the value rounded for reading.
-fn pow10_or_value(v: f64) -> String {
-    let p = pow10_label(&v);
-    if p.is_empty() {
-        super::style::readable(v)
-    } else {
-        p
-    }
-}
-
-impl Drawing for RegimePlot<'_> {
-    fn style(&self) -> FigureStyle {
-        self.style
+    fn plots_aspect(&self) -> f64 {
+        self.frame.one_column_or(0.8, 0.6)
     }
 
-    fn aspect(&self) -> f64 {
-        let panel = match self.style {
-            FigureStyle::Paper1Col => 0.8,
-            _ => 0.6,
-        };
-        self.key().figure_aspect(self.style, panel, self.show_title)
-    }
-
-    fn caption(&self) -> String {
+    fn caption_tail(&self) -> String {
         format!(
-            "{}. Each cell is the steady state of one run, in its state's colour; {}. The solid line is λ₂(φ) of the linear programme.{}",
-            self.title.trim_end_matches('.'),
+            ". Each cell is the steady state of one run, in its state's colour; {}. The solid line is λ₂(φ) of the linear programme.{}",
             self.shading_note(),
             if self.paper_lines {
                 " Dotted: the lines of the paper's Figs. 3 (φ = 0), 6 (λ = 5.1) and 8 (φ = π/2)."
@@ -165,13 +156,9 @@ impl Drawing for RegimePlot<'_> {
         )
     }
 
-    fn title(&self) -> Option<&str> {
-        self.show_title.then_some(self.title.as_str())
-    }
-
-    fn draw<DB: DrawingBackend>(
+    fn draw_plots<DB: DrawingBackend>(
         &self,
-        root: &DrawingArea<DB, Shift>,
+        plots: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
         let map = self.map;
@@ -183,24 +170,13 @@ impl Drawing for RegimePlot<'_> {
         let x1 = map.cell_bounds(nl - 1, 0).0 .1;
         let y0 = map.cell_bounds(0, 0).1 .0 / PI;
         let y1 = map.cell_bounds(0, np - 1).1 .1 / PI;
-        let plot = self.key().draw_below(root, self.style, pen)?;
-        let f = pen.text_pt();
-        let mut chart = ChartBuilder::on(&plot)
-            .margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.0 * f))
+        let mut chart = pen
+            .chart(plots)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc("λ")
             .y_desc("φ / π")
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .draw()
             .map_err(s)?;
 

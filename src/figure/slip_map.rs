@@ -10,7 +10,7 @@ use plotters::prelude::*;
 
 use super::style::{
     direction_colour, direction_label, directions_forward_first, padded, pi_label, readable, s,
-    Drawing, FigureStyle, Key, Pattern, Pen, Sample, GREEN_LINE,
+    Figure, Frame, Key, Pattern, Pen, Sample, GREEN_LINE,
 };
 use crate::analysis::slip_map::SlipMap;
 use crate::contact::SlipDirection;
@@ -125,12 +125,8 @@ fn shifted(t0: f64, t1: f64, origin: f64) -> Vec<(f64, f64)> {
 pub struct SlipMapPlot<'a> {
     /// The slip map.
     pub map: &'a SlipMap,
-    /// What the figure shows, in words: the start of its caption.
-    pub title: String,
-    /// Draw the title on the figure (for slides).
-    pub show_title: bool,
-    /// Where the figure goes.
-    pub style: FigureStyle,
+    /// Its style and title.
+    pub frame: Frame,
     /// Where the drawn cycle starts.
     pub origin: TimeOrigin,
 }
@@ -247,6 +243,22 @@ impl SlipMapPlot<'_> {
             .collect()
     }
 
+    /// The name of the time axis: `ωt`, or `ω(t − t₀)` when the drawn
+    /// cycle does not start at `t = 0`.
+    fn time_desc(&self) -> &'static str {
+        if self.origin.resolve(self.map) == 0.0 {
+            "ωt"
+        } else {
+            "ω(t − t₀)"
+        }
+    }
+}
+
+impl Figure for SlipMapPlot<'_> {
+    fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
     fn key(&self) -> Key {
         let mut key = Key::default();
         for d in self.directions() {
@@ -260,31 +272,11 @@ impl SlipMapPlot<'_> {
         key
     }
 
-    /// The name of the time axis: `ωt`, or `ω(t − t₀)` when the drawn
-    /// cycle does not start at `t = 0`.
-    fn time_desc(&self) -> &'static str {
-        if self.origin.resolve(self.map) == 0.0 {
-            "ωt"
-        } else {
-            "ω(t − t₀)"
-        }
-    }
-}
-
-impl Drawing for SlipMapPlot<'_> {
-    fn style(&self) -> FigureStyle {
-        self.style
+    fn plots_aspect(&self) -> f64 {
+        self.frame.one_column_or(0.85, 0.55)
     }
 
-    fn aspect(&self) -> f64 {
-        let panel = match self.style {
-            FigureStyle::Paper1Col => 0.85,
-            _ => 0.55,
-        };
-        self.key().figure_aspect(self.style, panel, self.show_title)
-    }
-
-    fn caption(&self) -> String {
+    fn caption_tail(&self) -> String {
         let map = self.map;
         let origin = self.origin.resolve(map);
         let time = if origin == 0.0 {
@@ -296,48 +288,31 @@ impl Drawing for SlipMapPlot<'_> {
             )
         };
         format!(
-            "{}: {}, W = {} per cycle. (a) Slip zones over one steady cycle against θ; (b) the load against the same time; {time}.",
-            self.title.trim_end_matches('.'),
+            ": {}, W = {} per cycle. (a) Slip zones over one steady cycle against θ; (b) the load against the same time; {time}.",
             map.outcome.state(),
             readable(map.outcome.dissipation)
         )
     }
 
-    fn title(&self) -> Option<&str> {
-        self.show_title.then_some(self.title.as_str())
-    }
-
-    fn draw<DB: DrawingBackend>(
+    fn draw_plots<DB: DrawingBackend>(
         &self,
-        root: &DrawingArea<DB, Shift>,
+        plots: &DrawingArea<DB, Shift>,
         pen: &Pen,
     ) -> Result<(), String> {
         let map = self.map;
         let origin = self.origin.resolve(map);
-        let w = root.dim_in_pixel().0;
-        let root = self.key().draw_below(root, self.style, pen)?;
-        let (left, right) = root.split_horizontally(w * 3 / 5);
-        let f = pen.text_pt();
+        let (left, right) = plots.split_horizontally(plots.dim_in_pixel().0 * 3 / 5);
         let t_desc = self.time_desc();
 
         // (a) the slip map: theta across, time up, in units of pi, from 0.
-        let mut chart = ChartBuilder::on(&left)
+        let mut chart = pen
+            .chart(&left)
             .caption("(a)", pen.text())
-            .margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.0 * f))
             .build_cartesian_2d(-1.0..1.0, 0.0..2.0)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc("θ")
             .y_desc(t_desc)
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .x_labels(5)
             .y_labels(9)
             .x_label_formatter(&pi_label)
@@ -379,23 +354,14 @@ impl Drawing for SlipMapPlot<'_> {
         let lo = load.iter().map(|p| p.1.min(p.2)).fold(f64::MAX, f64::min);
         let hi = load.iter().map(|p| p.1.max(p.2)).fold(f64::MIN, f64::max);
         let (lo, hi) = padded(lo, hi);
-        let mut chart = ChartBuilder::on(&right)
+        let mut chart = pen
+            .chart(&right)
             .caption("(b)", pen.text())
-            .margin(pen.px(0.8 * f))
-            .margin_right(pen.px(1.6 * f))
-            .x_label_area_size(pen.px(2.9 * f))
-            .y_label_area_size(pen.px(4.0 * f))
             .build_cartesian_2d(lo..hi, 0.0..2.0)
             .map_err(s)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
+        pen.axes(&mut chart.configure_mesh())
             .x_desc("load")
             .y_desc(t_desc)
-            .axis_desc_style(pen.text())
-            .label_style(pen.tick())
-            .axis_style(pen.line(BLACK, 1.0))
-            .set_all_tick_mark_size(pen.px(0.35 * f))
             .x_labels(5)
             .y_labels(9)
             .y_label_formatter(&pi_label)

@@ -9,6 +9,7 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
+use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -176,6 +177,36 @@ impl Pen {
     pub fn tick(&self) -> TextStyle<'static> {
         self.font(self.style.tick_pt())
     }
+    /// A chart on `area` laid out as every figure's: small margins, room
+    /// on the right for the last tick label, and label areas for the
+    /// style's fonts (a caller may widen them).
+    pub(crate) fn chart<'a, 'b, DB: DrawingBackend>(
+        &self,
+        area: &'a DrawingArea<DB, Shift>,
+    ) -> ChartBuilder<'a, 'b, DB> {
+        let f = self.text_pt();
+        let mut chart = ChartBuilder::on(area);
+        chart
+            .margin(self.px(0.8 * f))
+            .margin_right(self.px(1.6 * f))
+            .x_label_area_size(self.px(2.9 * f))
+            .y_label_area_size(self.px(4.0 * f));
+        chart
+    }
+
+    /// A chart's axes as every figure draws them: no grid lines, the
+    /// style's fonts, thin black axis lines and short ticks; the caller
+    /// adds its descriptions and labels, then draws.
+    pub(crate) fn axes<'m, 'a, 'b, X: Ranged, Y: Ranged, DB: DrawingBackend>(
+        &self,
+        mesh: &'m mut MeshStyle<'a, 'b, X, Y, DB>,
+    ) -> &'m mut MeshStyle<'a, 'b, X, Y, DB> {
+        mesh.disable_mesh()
+            .axis_desc_style(self.text())
+            .label_style(self.tick())
+            .axis_style(self.line(BLACK, 1.0))
+            .set_all_tick_mark_size(self.px(0.35 * self.text_pt()))
+    }
     /// The text size in points.
     pub fn text_pt(&self) -> f64 {
         self.style.font_pt()
@@ -194,6 +225,81 @@ impl Pen {
             self.upx(self.style.width_pt()),
             self.upx(self.style.height_pt(aspect)),
         )
+    }
+}
+
+/// What every figure has besides its data: where it goes, and the title
+/// that starts its caption (drawn on it only with `show_title`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// The caption's first sentence, and the title drawn with `show_title`.
+    pub title: String,
+    /// Draw the title on the figure (for slides).
+    pub show_title: bool,
+    /// Where the figure goes.
+    pub style: FigureStyle,
+}
+
+/// What each of this crate's figures supplies; its [`Drawing`] follows:
+/// the key goes below the plots (never over the data), the height is the
+/// plots' and the key's, and the caption starts with the title.
+pub(crate) trait Figure {
+    /// The style and title.
+    fn frame(&self) -> &Frame;
+    /// The key, listing only what the figure shows.
+    fn key(&self) -> Key;
+    /// Height over width of the plots above the key.
+    fn plots_aspect(&self) -> f64;
+    /// What the caption says after the title, from the punctuation that
+    /// ends the title (`. (a) ...`).
+    fn caption_tail(&self) -> String;
+    /// Draw the plots on `plots`, the area above the key.
+    fn draw_plots<DB: DrawingBackend>(
+        &self,
+        plots: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String>;
+}
+
+impl Frame {
+    /// `one_column` in a journal column (`paper-1col`), else `wider`: a
+    /// narrow figure needs its plots taller for their width.
+    pub(crate) fn one_column_or(&self, one_column: f64, wider: f64) -> f64 {
+        match self.style {
+            FigureStyle::Paper1Col => one_column,
+            _ => wider,
+        }
+    }
+}
+
+impl<F: Figure> Drawing for F {
+    fn style(&self) -> FigureStyle {
+        self.frame().style
+    }
+
+    fn aspect(&self) -> f64 {
+        let frame = self.frame();
+        self.key()
+            .figure_aspect(frame.style, self.plots_aspect(), frame.show_title)
+    }
+
+    fn caption(&self) -> String {
+        let title = self.frame().title.trim_end_matches('.');
+        format!("{title}{}", self.caption_tail())
+    }
+
+    fn title(&self) -> Option<&str> {
+        let frame = self.frame();
+        frame.show_title.then_some(frame.title.as_str())
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        pen: &Pen,
+    ) -> Result<(), String> {
+        let plots = self.key().draw_below(root, self.frame().style, pen)?;
+        self.draw_plots(&plots, pen)
     }
 }
 

@@ -135,6 +135,75 @@ fn cycle_name(stem: &str, content: &[u8]) -> String {
     format!("cycle:{stem}@sha256:{}", content_id(content))
 }
 
+/// The key under which a file's metadata header records its polyline
+/// cycle (model.md section 5.4); a file of the paper's ellipse has none.
+pub const LOAD_CYCLE_KEY: &str = "load-cycle";
+
+/// The content digest of a recorded cycle name, `DIGEST` of
+/// `cycle:NAME@sha256:DIGEST`: what identifies the cycle, whatever its
+/// file was called.
+pub fn recorded_digest(name: &str) -> Option<&str> {
+    let (_, digest) = name.strip_prefix("cycle:")?.rsplit_once("@sha256:")?;
+    (!digest.is_empty() && digest.bytes().all(|b| b.is_ascii_hexdigit())).then_some(digest)
+}
+
+/// A file's recorded load cycle ([`LOAD_CYCLE_KEY`]) and the cycle it is
+/// to be read with are not the same ([`check_recorded_cycle`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CycleMatchError {
+    /// Made with a polyline, but none is given.
+    #[error("it was made with the load cycle {recorded}: give that cycle's file with --cycle")]
+    NotGiven {
+        /// The file's cycle, escaped.
+        recorded: String,
+    },
+    /// Made with the paper's ellipse, but a polyline is given.
+    #[error("it was made with the paper's ellipse (psi, phi), not with the load cycle {given}: drop --cycle")]
+    NotPolyline {
+        /// The cycle given.
+        given: String,
+    },
+    /// Made with another polyline (another sha256).
+    #[error("it was made with the load cycle {recorded}, but the cycle given is {given}: their contents differ")]
+    Differs {
+        /// The file's cycle, escaped.
+        recorded: String,
+        /// The cycle given.
+        given: String,
+    },
+}
+
+/// Whether a file whose header records the cycle `recorded` (the value of
+/// [`LOAD_CYCLE_KEY`], `None` for the paper's ellipse) may be read with
+/// the polyline `given`: both none, or the same content (the same sha256;
+/// the file may have been renamed since).
+///
+/// # Errors
+///
+/// [`CycleMatchError`]: a polyline file without its cycle, an ellipse
+/// file with one, or two different cycles.
+pub fn check_recorded_cycle(
+    recorded: Option<&str>,
+    given: Option<&Polyline>,
+) -> Result<(), CycleMatchError> {
+    match (recorded, given) {
+        (None, None) => Ok(()),
+        (Some(r), None) => Err(CycleMatchError::NotGiven {
+            recorded: escape_text(r, 120),
+        }),
+        (None, Some(g)) => Err(CycleMatchError::NotPolyline {
+            given: g.name().to_string(),
+        }),
+        (Some(r), Some(g)) => match (recorded_digest(r), recorded_digest(g.name())) {
+            (Some(a), Some(b)) if a == b => Ok(()),
+            _ => Err(CycleMatchError::Differs {
+                recorded: escape_text(r, 120),
+                given: g.name().to_string(),
+            }),
+        },
+    }
+}
+
 /// The cycle CSV of `vertices`: the header `u,v` and one row a vertex,
 /// each number in its shortest round-trip form (so reading it back gives
 /// the same bits).
@@ -192,6 +261,42 @@ mod tests {
             inline_cycle(two),
             Err(CycleFileError::Param(ParamError::BadCount { value: 2, .. }))
         ));
+    }
+
+    #[test]
+    fn a_recorded_cycle_matches_by_content_not_by_name() {
+        let square = vec![
+            LoadPoint::new(1.0, 0.0),
+            LoadPoint::new(0.0, 1.0),
+            LoadPoint::new(-1.0, 0.0),
+            LoadPoint::new(0.0, -1.0),
+        ];
+        let text = cycle_csv(&square);
+        let here = Polyline::new(cycle_name("a.csv", text.as_bytes()), square.clone()).unwrap();
+        let renamed = cycle_name("b.csv", text.as_bytes());
+        assert_eq!(recorded_digest(&renamed), recorded_digest(here.name()));
+        assert_eq!(check_recorded_cycle(Some(&renamed), Some(&here)), Ok(()));
+        // The inline form of the same vertices has the digest of the
+        // canonical CSV, so it is the same cycle as that file.
+        let inline = inline_cycle(square).unwrap();
+        assert_eq!(check_recorded_cycle(Some(&renamed), Some(&inline)), Ok(()));
+        assert_eq!(check_recorded_cycle(None, None), Ok(()));
+        let other = cycle_name("a.csv", b"u,v\n1,0\n0,1\n-1,0\n");
+        assert!(matches!(
+            check_recorded_cycle(Some(&other), Some(&here)),
+            Err(CycleMatchError::Differs { .. })
+        ));
+        assert!(matches!(
+            check_recorded_cycle(Some(&renamed), None),
+            Err(CycleMatchError::NotGiven { .. })
+        ));
+        assert!(matches!(
+            check_recorded_cycle(None, Some(&here)),
+            Err(CycleMatchError::NotPolyline { .. })
+        ));
+        // A value that is not a recorded cycle never matches.
+        assert_eq!(recorded_digest("cycle:a.csv@sha256:"), None);
+        assert!(check_recorded_cycle(Some("square"), Some(&here)).is_err());
     }
 
     #[test]

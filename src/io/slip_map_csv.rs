@@ -6,9 +6,10 @@
 use crate::analysis::case::Case;
 use crate::analysis::slip_map::{SlipMap, SlipMapRow};
 use crate::contact::SlipDirection;
+use crate::io::cycle::{check_recorded_cycle, CycleMatchError, LOAD_CYCLE_KEY};
 use crate::io::metadata::{case_metadata, Metadata, MetadataError, VERSION};
 use crate::io::read::escape_text;
-use crate::model::{Cycle, LoadPoint, Material, Plane};
+use crate::model::{Cycle, LoadPoint, Material, Plane, Polyline};
 use crate::stepping::steady::{Approach, SteadyState};
 use crate::stepping::{Certificate, Outcome, ShakedownProof, Verdict};
 
@@ -87,6 +88,10 @@ pub enum SlipMapFileError {
         /// What is wrong.
         why: String,
     },
+    /// A map of a polyline cycle without that cycle, or with another one
+    /// (or an ellipse's map with a polyline).
+    #[error(transparent)]
+    Cycle(#[from] CycleMatchError),
     /// The two files are not of the same run.
     #[error("its header differs from the map's: {0}")]
     Mismatch(MetadataError),
@@ -131,16 +136,23 @@ pub struct SlipMapReadError {
 /// Read a slip map back from its two CSVs as `shakedown figure` writes
 /// them (comment lines of [`slip_map_metadata`], then [`SlipMap::csv`] and
 /// [`SlipMap::load_csv`]): the same map, so a redraw draws the same figure.
-/// Every row is checked: the times and angles in the order written, a
+/// A map of a polyline cycle is read with that cycle, `polyline`, whose
+/// content the header records ([`check_recorded_cycle`]); a map of the
+/// paper's ellipse, with `None`. Every row is checked: the times and angles in the order written, a
 /// direction of `1`, `-1` or `0`, finite loads, and as many rows as the
 /// header's nodes and increments give.
 ///
 /// # Errors
 ///
 /// [`SlipMapReadError`], naming the file: not an output of shakedown, of
-/// another version, another table, a missing or bad comment line, the two
-/// files of different runs, a bad row, or a file cut short.
-pub fn read_slip_map(map: &str, load: &str) -> Result<SlipMap, SlipMapReadError> {
+/// another version, another table, a missing or bad comment line, not the
+/// cycle given, the two files of different runs, a bad row, or a file cut
+/// short.
+pub fn read_slip_map(
+    map: &str,
+    load: &str,
+    polyline: Option<&Polyline>,
+) -> Result<SlipMap, SlipMapReadError> {
     let in_map = |error| SlipMapReadError {
         file: SlipMapFile::Map,
         error,
@@ -153,7 +165,7 @@ pub fn read_slip_map(map: &str, load: &str) -> Result<SlipMap, SlipMapReadError>
     let load_meta = slip_map_header(load).map_err(in_load)?;
     meta.check(&load_meta)
         .map_err(|e| in_load(SlipMapFileError::Mismatch(e)))?;
-    let head = SlipMapHead::of(&meta).map_err(in_map)?;
+    let head = SlipMapHead::of(&meta, polyline).map_err(in_map)?;
     let rows = slip_map_rows(map, &head).map_err(in_map)?;
     let (start, loads) = slip_map_loads(load, &head, &rows).map_err(in_load)?;
     let rows = rows
@@ -209,7 +221,7 @@ struct SlipMapHead {
 }
 
 impl SlipMapHead {
-    fn of(meta: &Metadata) -> Result<Self, SlipMapFileError> {
+    fn of(meta: &Metadata, polyline: Option<&Polyline>) -> Result<Self, SlipMapFileError> {
         let get = |key: &'static str| meta.get(key).ok_or(SlipMapFileError::Missing { key });
         let bad = |key: &'static str, value: &str, why: String| SlipMapFileError::Value {
             key,
@@ -244,8 +256,16 @@ impl SlipMapHead {
             .split_once(',')
             .and_then(|(x, y)| Some(LoadPoint::new(x.parse().ok()?, y.parse().ok()?)))
             .ok_or_else(|| bad("center", center_text, "expected x,y".into()))?;
-        let cycle = Cycle::new(center, number("lambda")?, number("psi")?, number("phi")?)
-            .map_err(|e| bad("lambda", get("lambda").unwrap_or_default(), e.to_string()))?;
+        // A polyline's header has no psi or phi (`none`) but names the
+        // cycle by content: it is drawn with that cycle or not at all,
+        // never with an ellipse.
+        check_recorded_cycle(meta.get(LOAD_CYCLE_KEY), polyline)?;
+        let lambda = number("lambda")?;
+        let cycle = match polyline {
+            Some(p) => Cycle::polyline(center, lambda, p.clone()),
+            None => Cycle::new(center, lambda, number("psi")?, number("phi")?),
+        }
+        .map_err(|e| bad("lambda", get("lambda").unwrap_or_default(), e.to_string()))?;
         let nodes = count("nodes")?;
         let rows = count("rows")?;
         // A bound on what a header may ask to be allocated.
@@ -351,14 +371,19 @@ fn table_lines<'a>(
     }
 }
 
-/// A complete line's fields, or why not: a last line without its newline
-/// is a file cut short.
-fn row_fields(n: usize, line: &str, columns: usize) -> Result<Vec<&str>, SlipMapFileError> {
-    let row = |why: &str| SlipMapFileError::Row {
+/// Line `n` of a file, `line`, cannot be read: `why`.
+fn row_error(n: usize, line: &str, why: &str) -> SlipMapFileError {
+    SlipMapFileError::Row {
         line: n,
         why: why.to_string(),
         text: escape_text(line.trim_end(), 60),
-    };
+    }
+}
+
+/// A complete line's fields, or why not: a last line without its newline
+/// is a file cut short.
+fn row_fields(n: usize, line: &str, columns: usize) -> Result<Vec<&str>, SlipMapFileError> {
+    let row = |why: &str| row_error(n, line, why);
     let Some(body) = line.strip_suffix('\n') else {
         return Err(row("the last line is incomplete (the file is cut short)"));
     };
@@ -384,11 +409,7 @@ fn slip_map_rows(text: &str, head: &SlipMapHead) -> Result<Vec<MapIncrement>, Sl
             continue;
         }
         let f = row_fields(n, line, 3)?;
-        let row = |why: &str| SlipMapFileError::Row {
-            line: n,
-            why: why.to_string(),
-            text: escape_text(line.trim_end(), 60),
-        };
+        let row = |why: &str| row_error(n, line, why);
         let num = |t: &str| t.parse::<f64>().ok().filter(|x| x.is_finite());
         let (j, k) = (found % nodes, found / nodes);
         let t1 = num(f[0]).ok_or_else(|| row("omega_t is not a finite number"))?;
@@ -456,11 +477,7 @@ fn slip_map_loads(
             continue;
         }
         let f = row_fields(n, line, 5)?;
-        let row = |why: &str| SlipMapFileError::Row {
-            line: n,
-            why: why.to_string(),
-            text: escape_text(line.trim_end(), 60),
-        };
+        let row = |why: &str| row_error(n, line, why);
         let v: Vec<f64> = f
             .iter()
             .map(|t| t.parse::<f64>().ok().filter(|x| x.is_finite()))
@@ -481,4 +498,75 @@ fn slip_map_loads(
     }
     let start = points.remove(0);
     Ok((start, points))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::case::CaseParams;
+    use crate::analysis::slip_map::slip_map;
+    use crate::io::cycle::inline_cycle;
+
+    /// A map's two CSVs as `figure` writes them.
+    fn files(params: &CaseParams) -> (SlipMap, String, String) {
+        let case = Case::from_params(params).unwrap();
+        let map = slip_map(&case).unwrap();
+        let meta = slip_map_metadata(&case, &map).render();
+        let (text, load) = (meta.clone() + &map.csv(), meta + &map.load_csv());
+        (map, text, load)
+    }
+
+    fn cycle_error(r: Result<SlipMap, SlipMapReadError>) -> CycleMatchError {
+        match r {
+            Err(SlipMapReadError {
+                file: SlipMapFile::Map,
+                error: SlipMapFileError::Cycle(e),
+            }) => e,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_polyline_map_is_read_back_with_its_cycle_and_no_other() {
+        let offsets = |a: f64| {
+            [(a, a), (-a, a), (-a, -a), (a, -a)]
+                .map(|(u, v)| LoadPoint::new(u, v))
+                .to_vec()
+        };
+        let square = inline_cycle(offsets(0.5)).unwrap();
+        let params = CaseParams {
+            load_factor: 7.0,
+            nodes: 32,
+            steps: 100,
+            cycle: Some(square.clone()),
+            ..CaseParams::default()
+        };
+        let (map, text, load) = files(&params);
+        let back = read_slip_map(&text, &load, Some(&square)).unwrap();
+        assert_eq!(back.cycle, map.cycle);
+        assert_eq!(back.start, map.start);
+        assert_eq!(back.rows.len(), map.rows.len());
+        for (a, b) in back.rows.iter().zip(&map.rows) {
+            assert_eq!((a.t1, a.load, &a.directions), (b.t1, b.load, &b.directions));
+        }
+        assert!(matches!(
+            cycle_error(read_slip_map(&text, &load, None)),
+            CycleMatchError::NotGiven { .. }
+        ));
+        let other = inline_cycle(offsets(0.4)).unwrap();
+        assert!(matches!(
+            cycle_error(read_slip_map(&text, &load, Some(&other))),
+            CycleMatchError::Differs { .. }
+        ));
+        // A map of the ellipse is not read with a polyline.
+        let (_, text, load) = files(&CaseParams {
+            cycle: None,
+            ..params
+        });
+        assert!(read_slip_map(&text, &load, None).is_ok());
+        assert!(matches!(
+            cycle_error(read_slip_map(&text, &load, Some(&square))),
+            CycleMatchError::NotPolyline { .. }
+        ));
+    }
 }

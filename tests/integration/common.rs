@@ -12,6 +12,29 @@ pub fn shakedown(args: &[&str]) -> Output {
         .expect("the binary runs")
 }
 
+/// Run the `shakedown` binary, which must succeed: its stdout.
+#[track_caller]
+pub fn ok(args: &[&str]) -> String {
+    let o = shakedown(args);
+    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    stdout(&o)
+}
+
+/// The value of `lambda_2` in a command's output (`lambda_2 = 4.9 ...` of
+/// `figure`, `lambda_2  4.9` of `limit`).
+pub fn lambda_2(text: &str) -> f64 {
+    text.lines()
+        .filter_map(|l| l.trim_start().strip_prefix("lambda_2"))
+        .find_map(|rest| {
+            rest.trim_start_matches([' ', '='])
+                .split_whitespace()
+                .next()?
+                .parse()
+                .ok()
+        })
+        .unwrap_or_else(|| panic!("no lambda_2 in:\n{text}"))
+}
+
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }

@@ -10,31 +10,9 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{check_svg, scratch, shakedown, stderr, stdout};
+use common::{check_svg, lambda_2, ok, scratch, shakedown, stderr, stdout};
 
 const COARSE: [&str; 4] = ["--nodes", "32", "--steps", "100"];
-
-#[track_caller]
-fn ok(args: &[&str]) -> String {
-    let o = shakedown(args);
-    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
-    stdout(&o)
-}
-
-/// The value of `lambda_2` in a command's output (`lambda_2 = 4.9 ...` of
-/// `figure`, `lambda_2  4.9` of `limit`).
-fn lambda_2(text: &str) -> f64 {
-    text.lines()
-        .filter_map(|l| l.trim_start().strip_prefix("lambda_2"))
-        .find_map(|rest| {
-            rest.trim_start_matches([' ', '='])
-                .split_whitespace()
-                .next()?
-                .parse()
-                .ok()
-        })
-        .unwrap_or_else(|| panic!("no lambda_2 in:\n{text}"))
-}
 
 #[test]
 fn a_redraw_uses_the_model_of_its_csv() {
@@ -227,4 +205,77 @@ fn sweep_rows_print_numbers_in_shortest_form() {
     );
     assert!(text.contains("# lambda = 1e-320"), "{text}");
     assert!(text.lines().all(|l| l.len() < 200), "{text}");
+}
+
+/// The preset's title names its case (fig7: λ = 5.1, φ = π/2, OA); a slip
+/// map of another case says which, and its redraw says the same.
+#[test]
+fn a_slip_map_of_another_case_says_so_in_its_caption() {
+    let dir = scratch("slip-map-case");
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let (made, again) = (s(&dir.join("made")), s(&dir.join("again")));
+    let case = ["--lambda", "4.5", "--phi", "pi/4", "--initial", "7,-7"];
+    ok(&[&["figure", "fig7", "--out", &made][..], &case, &COARSE].concat());
+    let caption = std::fs::read_to_string(dir.join("made/fig7.caption.txt")).unwrap();
+    for note in ["λ = 4.5", "φ = 0.25π", "initial path 7,-7"] {
+        assert!(caption.contains(note), "{caption} lacks {note}");
+    }
+    ok(&[
+        "figure",
+        "fig7",
+        "--from",
+        &format!("{made}/fig7.csv"),
+        "--out",
+        &again,
+    ]);
+    let redrawn = std::fs::read_to_string(dir.join("again/fig7.caption.txt")).unwrap();
+    assert_eq!(redrawn, caption);
+    // The preset's own case adds no note.
+    let own = s(&dir.join("own"));
+    ok(&[&["figure", "fig7", "--out", &own][..], &COARSE].concat());
+    let caption = std::fs::read_to_string(dir.join("own/fig7.caption.txt")).unwrap();
+    assert!(
+        caption
+            .starts_with("Fig. 7: point C, λ = 5.1, φ = π/2 (N = 32, 100 increments per cycle):"),
+        "{caption}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A sweep figure drawn over another grid than its preset's says what its
+/// title then gets wrong: fig6's λ = 5.1 and fig3's φ = 0, and the
+/// transients drawn.
+#[test]
+fn a_sweep_figure_of_another_grid_says_so_in_its_caption() {
+    let dir = scratch("sweep-grid");
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let cases: [(&str, &[&str], &[&str]); 2] = [
+        (
+            "fig6",
+            &["--lambda", "5.5", "--phi", "0,pi/2", "--initial", "OA"],
+            &["λ = 5.5", "transient OA"],
+        ),
+        (
+            "fig3",
+            &[
+                "--lambda",
+                "4.5,5.5",
+                "--phi",
+                "pi/2",
+                "--initial",
+                "OA,7,-7",
+            ],
+            &["φ = 0.5π", "transients OA and 7,-7"],
+        ),
+    ];
+    for (name, grid, notes) in cases {
+        let out = s(&dir.join(name));
+        ok(&[&["figure", name, "--out", &out][..], grid, &COARSE].concat());
+        let caption =
+            std::fs::read_to_string(dir.join(name).join(format!("{name}.caption.txt"))).unwrap();
+        for note in notes {
+            assert!(caption.contains(note), "{caption} lacks {note}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::path::Path;
 
-use common::{check_svg, png_size, read_csv, scratch, shakedown, stderr, stdout};
+use common::{check_svg, ok, png_size, read_csv, scratch, shakedown, stderr, stdout};
 use shakedown::analysis::case::{Case, CaseParams};
 use shakedown::analysis::slip_map::slip_map;
 use shakedown::stepping::slip_zones;
@@ -266,55 +266,30 @@ fn fig7_point_c_one_zone_splits_travels_and_merges() {
 
 const TINY: [&str; 4] = ["--nodes", "32", "--steps", "200"];
 
-fn run_ok(args: &[&str]) -> String {
-    let o = shakedown(args);
-    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
-    stdout(&o)
-}
-
 #[test]
 fn figure_from_csv_redraws_the_same_plot_without_running() {
     let dir = scratch("fig3_from");
     let d = dir.to_str().unwrap();
-    run_ok(
-        &[
-            &[
-                "figure",
-                "fig3",
-                "--out",
-                d,
-                "--lambda",
-                "4.5,5,6.5",
-                "--initial",
-                "OA,7,-7,optimal",
-            ][..],
-            &TINY,
-        ]
-        .concat(),
-    );
+    // The list flags that made it, given again to redraw it: a CSV made
+    // under other flags is refused, naming the key that differs.
+    let grid = ["--lambda", "4.5,5,6.5", "--initial", "OA,7,-7,optimal"];
+    ok(&[&["figure", "fig3", "--out", d][..], &grid, &TINY].concat());
     let svg = std::fs::read_to_string(dir.join("fig3.svg")).unwrap();
     let again = scratch("fig3_from_again");
     let csv = dir.join("fig3.csv");
-    let out = run_ok(
+    let out = ok(&[
         &[
-            &[
-                "figure",
-                "fig3",
-                "--from",
-                csv.to_str().unwrap(),
-                "--out",
-                again.to_str().unwrap(),
-                // The flags that made it: a CSV made under other flags is
-                // refused, naming the key that differs.
-                "--lambda",
-                "4.5,5,6.5",
-                "--initial",
-                "OA,7,-7,optimal",
-            ][..],
-            &TINY,
-        ]
-        .concat(),
-    );
+            "figure",
+            "fig3",
+            "--from",
+            csv.to_str().unwrap(),
+            "--out",
+            again.to_str().unwrap(),
+        ][..],
+        &grid,
+        &TINY,
+    ]
+    .concat());
     assert!(out.contains("9 runs"), "{out}");
     assert_eq!(
         std::fs::read_to_string(again.join("fig3.svg")).unwrap(),
@@ -338,11 +313,11 @@ fn slip_map_from_csv_redraws_the_same_plot_without_running() {
     for name in ["fig5", "fig7"] {
         let dir = scratch(&format!("{name}_from"));
         let d = dir.to_str().unwrap();
-        run_ok(&[&["figure", name, "--out", d][..], &TINY].concat());
+        ok(&[&["figure", name, "--out", d][..], &TINY].concat());
         let svg = std::fs::read_to_string(dir.join(format!("{name}.svg"))).unwrap();
         let again = scratch(&format!("{name}_from_again"));
         let csv = dir.join(format!("{name}.csv"));
-        let out = run_ok(&[
+        let out = ok(&[
             "figure",
             name,
             "--from",
@@ -374,11 +349,11 @@ fn slip_map_from_csv_redraws_the_same_plot_without_running() {
 fn slip_map_from_a_bad_csv_is_a_one_line_error() {
     let dir = scratch("fig5_bad_from");
     let d = dir.to_str().unwrap();
-    run_ok(&[&["figure", "fig5", "--out", d][..], &TINY].concat());
+    ok(&[&["figure", "fig5", "--out", d][..], &TINY].concat());
     let map = std::fs::read_to_string(dir.join("fig5.csv")).unwrap();
     let load = std::fs::read_to_string(dir.join("fig5_load.csv")).unwrap();
     let sweep = dir.join("sweep.csv");
-    run_ok(&[
+    ok(&[
         "sweep",
         "--lambda",
         "5",
@@ -475,7 +450,7 @@ fn figure_resume_finishes_an_interrupted_csv() {
         &TINY,
     ]
     .concat();
-    run_ok(&args);
+    ok(&args);
     let full = std::fs::read_to_string(dir.join("fig9.csv")).unwrap();
     // Cut the file after three rows and half of the fourth (the `#`
     // metadata lines and the column header come first).
@@ -499,22 +474,20 @@ fn figure_resume_finishes_an_interrupted_csv() {
 fn regime_map_writes_csv_svg_png_and_the_limit_curve() {
     let dir = scratch("regime");
     let d = dir.to_str().unwrap();
-    run_ok(
+    ok(&[
         &[
-            &[
-                "figure",
-                "regime",
-                "--out",
-                d,
-                "--lambda",
-                "4.5,5.5,7",
-                "--phi",
-                "0,pi/2",
-            ][..],
-            &TINY,
-        ]
-        .concat(),
-    );
+            "figure",
+            "regime",
+            "--out",
+            d,
+            "--lambda",
+            "4.5,5.5,7",
+            "--phi",
+            "0,pi/2",
+        ][..],
+        &TINY,
+    ]
+    .concat());
     check_plot_files(&dir, "regime");
     let (header, rows) = read_csv(&dir.join("regime.csv"));
     assert_eq!(header.join(","), shakedown::analysis::sweep::CSV_HEADER);
@@ -533,7 +506,7 @@ fn regime_map_writes_csv_svg_png_and_the_limit_curve() {
 fn limit_prints_lambda_2_against_phi() {
     let dir = scratch("limit_curve");
     let file = dir.join("curve.csv");
-    let out = run_ok(&[
+    let out = ok(&[
         "limit",
         "--phi",
         "0:pi:pi/2",
@@ -559,13 +532,11 @@ fn limit_prints_lambda_2_against_phi() {
 fn slip_map_time_origin_option() {
     let dir = scratch("fig7_origin");
     let d = dir.to_str().unwrap();
-    let out = run_ok(
-        &[
-            &["figure", "fig7", "--out", d, "--time-origin", "0"][..],
-            &TINY,
-        ]
-        .concat(),
-    );
+    let out = ok(&[
+        &["figure", "fig7", "--out", d, "--time-origin", "0"][..],
+        &TINY,
+    ]
+    .concat());
     assert!(out.contains("drawn from omega t = 0.0000 pi"), "{out}");
     let o = shakedown(&["figure", "fig7", "--out", d, "--time-origin", "soon"]);
     assert_eq!(o.status.code(), Some(2));
@@ -599,8 +570,8 @@ fn custom_path_through_7_minus_7_is_the_paper_point() {
     let flags = [
         "--lambda", "5.5", "--nodes", "32", "--steps", "200", "--json",
     ];
-    let via = run_ok(&[&["run", "--initial", "7,-7"][..], &flags].concat());
-    let path = run_ok(&[&["run", "--initial-path", "1.75pi,-1.75pi"][..], &flags].concat());
+    let via = ok(&[&["run", "--initial", "7,-7"][..], &flags].concat());
+    let path = ok(&[&["run", "--initial-path", "1.75pi,-1.75pi"][..], &flags].concat());
     let w = |s: &str| {
         let v: serde_json::Value = serde_json::from_str(s).unwrap();
         v["dissipation"].clone()
@@ -622,7 +593,7 @@ fn bad_custom_points_are_one_line_errors() {
     let e = stderr(&shakedown(&["run", "--initial-path", "13,0"]));
     assert!(e.contains("separat"), "{e}");
     // A sweep runs the custom path (named by its points in the CSV).
-    let o = run_ok(&[
+    let o = ok(&[
         "sweep",
         "--lambda",
         "5",

@@ -10,6 +10,7 @@ mod docs_commands;
 mod engine;
 mod events;
 mod figure_guarantees;
+mod figure_polyline;
 mod figures;
 mod history_trim;
 mod kernels;

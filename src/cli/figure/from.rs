@@ -41,7 +41,12 @@ pub(super) fn header_model(given: &ModelArgs, meta: &Metadata) -> ModelArgs {
             *slot = meta.get(key).map(str::to_string);
         }
     };
-    fill(&mut m.psi, "psi");
+    // A polyline's file records no slope (`psi = none`) but its cycle by
+    // content, which only the user can give back (`--cycle`, checked by
+    // [`check_cycle`]).
+    if meta.get(LOAD_CYCLE_KEY).is_none() {
+        fill(&mut m.psi, "psi");
+    }
     fill(&mut m.center, "center");
     fill(&mut m.friction, "friction");
     fill(&mut m.nu, "nu");
@@ -55,6 +60,38 @@ pub(super) fn header_model(given: &ModelArgs, meta: &Metadata) -> ModelArgs {
     m
 }
 
+/// The `--from` file `from`, whose header is `meta`, is drawn with the
+/// cycle it was made with: a polyline file with its own cycle (`--cycle`
+/// or the preset's, the same sha256 as the header's `load-cycle`), a file
+/// of the paper's ellipse without one. Anything else is bad input in one
+/// line naming both cycles, so a polyline map is never drawn as an
+/// ellipse, nor one cycle's data with another's.
+pub(in crate::cli) fn check_cycle(
+    from: &Path,
+    meta: &Metadata,
+    cycle: Option<&Polyline>,
+) -> Result<()> {
+    check_recorded_cycle(meta.get(LOAD_CYCLE_KEY), cycle).map_err(|e| {
+        anyhow!(InputError(format!(
+            "--from {}: {e}",
+            shakedown::io::read::escape_text(&from.to_string_lossy(), 200)
+        )))
+    })
+}
+
+/// The cycle `given` (checked by [`check_cycle`]) under the name the
+/// `--from` file records: the same content, and so the same headers and
+/// caption as when the file was made, whatever its file is called now.
+pub(super) fn as_recorded(meta: &Metadata, given: Option<Polyline>) -> Option<Polyline> {
+    let recorded = meta.get(LOAD_CYCLE_KEY)?;
+    let given = given?;
+    if given.name() == recorded {
+        return Some(given);
+    }
+    // Same vertices, so it is as valid as `given`.
+    Some(Polyline::new(recorded, given.vertices().to_vec()).unwrap_or(given))
+}
+
 /// The keys of a sweep header that say which table it is (the grid), as
 /// against the model it was run with.
 pub(super) const GRID_KEYS: [&str; 4] = ["table", "lambda", "phi", "initial"];
@@ -64,6 +101,13 @@ pub(super) const GRID_KEYS: [&str; 4] = ["table", "lambda", "phi", "initial"];
 pub(super) fn model_note(base: &CaseParams, used: &CaseParams) -> Vec<String> {
     let mut v = Vec::new();
     let num = fmt_number;
+    // First: the cycle decides what the preset's title (its phi) means.
+    if used.cycle != base.cycle {
+        v.push(match &used.cycle {
+            Some(p) => format!("load cycle {} in place of the preset's", p.name()),
+            None => "the paper's ellipse in place of the preset's cycle".to_string(),
+        });
+    }
     if used.friction != base.friction {
         v.push(format!("f = {}", num(used.friction)));
     }
@@ -102,6 +146,67 @@ pub(super) fn model_note(base: &CaseParams, used: &CaseParams) -> Vec<String> {
     v
 }
 
+/// Where the case of a slip map (its `cycle` and `initial` path) differs
+/// from its preset's (`base`, with the preset's initial path
+/// `preset_initial`), whose title names it: `λ = 5`, `φ = 0.5π`,
+/// `initial path 7,-7`. A polyline's phase is in its vertices, and
+/// [`model_note`] names the cycle.
+pub(super) fn case_note(
+    base: &CaseParams,
+    preset_initial: &shakedown::model::Initial,
+    cycle: &shakedown::model::Cycle,
+    initial: &str,
+) -> Vec<String> {
+    let mut v = Vec::new();
+    if cycle.load_factor() != base.load_factor {
+        v.push(format!("λ = {}", fmt_number(cycle.load_factor())));
+    }
+    if cycle.as_polyline().is_none() && cycle.phase() != base.phase {
+        let phase = cycle.phase() / std::f64::consts::PI;
+        v.push(format!("φ = {}π", fmt_number(phase)));
+    }
+    if initial != preset_initial.name() {
+        v.push(format!("initial path {initial}"));
+    }
+    v
+}
+
+/// Where the grid of a sweep figure (`spec`, from the list flags) differs
+/// from its preset's (`preset`), whose title may name it (fig6: λ = 5.1,
+/// 25 transients): the transients drawn, and `lambda` or `phi` when they
+/// are not on the horizontal `axis` (where the ticks show them).
+pub(super) fn grid_note(preset: &SweepLists, spec: &SweepSpec, axis: Axis) -> Vec<String> {
+    let range = |v: &[f64], unit: f64| -> String {
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        let [lo, hi] = [lo / unit, hi / unit].map(fmt_number);
+        if lo == hi {
+            lo
+        } else {
+            format!("{lo} to {hi}")
+        }
+    };
+    let mut v = Vec::new();
+    if axis != Axis::Lambda && spec.load_factors() != preset.load_factors {
+        v.push(format!("λ = {}", range(spec.load_factors(), 1.0)));
+    }
+    let phases = spec.phases();
+    if axis != Axis::Phi && spec.polyline().is_none() && phases != preset.phases {
+        v.push(format!("φ = {}π", range(phases, std::f64::consts::PI)));
+    }
+    let initials = spec.initials();
+    if initials != preset.initials {
+        let names: Vec<String> = initials.iter().map(|i| i.name()).collect();
+        v.push(match names.len() {
+            1 => format!("transient {}", names[0]),
+            2..=4 => format!("transients {}", names.join(" and ")),
+            n => format!("{n} transients"),
+        });
+    }
+    v
+}
+
 /// A sweep figure's points, and how much of its table they are.
 type Drawn = (Vec<SweepPoint>, Option<Partial>);
 
@@ -127,11 +232,11 @@ pub(super) fn from_sweep_csv(
     let shown = shakedown::io::read::escape_text(&from.to_string_lossy(), 200);
     let mut meta = sweep_metadata(spec);
     meta.set("table", table);
-    let header = meta.preamble(shakedown::analysis::sweep::CSV_HEADER);
-    let cap = header.len() as u64 + 4096 + 512 * (keys.len() as u64 + 1);
+    let cap = meta.render().len() as u64 + 4096 + 512 * (keys.len() as u64 + 1);
     let bad = |e: &dyn std::fmt::Display| anyhow!(InputError(format!("--from {shown}: {e}")));
     let bytes = shakedown::io::read::read_capped(from, cap).map_err(|e| bad(&e))?;
     let found = Metadata::parse(&String::from_utf8_lossy(&bytes));
+    let header = meta.preamble(shakedown::analysis::sweep::CSV_HEADER);
     meta.check(&found).map_err(|e| match &e {
         MetadataError::Differs { key, .. } | MetadataError::Missing { key, .. }
             if GRID_KEYS.contains(&key.as_str()) =>
@@ -326,10 +431,11 @@ pub(super) fn load_file_of(map: &Path) -> PathBuf {
 }
 
 /// A slip map read back from the CSV `from` and its load table beside it
-/// (`NAME_load.csv`), as `figure fig5` (or `fig7`) wrote them: nothing is
-/// run. A file that is not such a table, or is cut short, is bad input
-/// named in one line.
-pub(super) fn read_slip_map_files(from: &Path) -> Result<SlipMap> {
+/// (`NAME_load.csv`), as `figure fig5` (or `fig7`) wrote them, with the
+/// polyline `cycle` it was made with (`None` for the paper's ellipse):
+/// nothing is run. A file that is not such a table, of another cycle, or
+/// cut short, is bad input named in one line.
+pub(super) fn read_slip_map_files(from: &Path, cycle: Option<&Polyline>) -> Result<SlipMap> {
     use shakedown::io::read::{escape_text, read_text_capped};
     let load = load_file_of(from);
     // Sized by the header (nodes x rows, at most 2^26 cells as the reader
@@ -359,7 +465,7 @@ pub(super) fn read_slip_map_files(from: &Path) -> Result<SlipMap> {
             &format_args!("its load table {}: {e}", load.display()),
         )
     })?;
-    read_slip_map(&map_text, &load_text).map_err(|e| {
+    read_slip_map(&map_text, &load_text, cycle).map_err(|e| {
         let file = match e.file {
             SlipMapFile::Map => from,
             SlipMapFile::Load => &load,

@@ -3,6 +3,7 @@
 //! without running, `--resume` continues an interrupted sweep figure.
 
 mod from;
+pub(super) use from::check_cycle;
 use from::*;
 
 /// Samples of an elliptical cycle for each point of the regime map's
@@ -24,14 +25,14 @@ use shakedown::analysis::memory::{
 };
 use shakedown::analysis::regime::{RegimeCell, RegimeMap};
 use shakedown::analysis::slip_map::{slip_map, SlipMap, SlipMapError};
-use shakedown::analysis::sweep::Axis;
 use shakedown::analysis::sweep::SweepSpec;
+use shakedown::analysis::sweep::{Axis, SweepLists};
 use shakedown::figure::data::parse_sweep_csv;
 use shakedown::figure::dissipation::memory_window;
 use shakedown::figure::FigureError;
 use shakedown::figure::{
-    write_svg_png, DissipationPlot, Drawing, FigureStyle, MemoryPlot, RegimePlot, SlipMapPlot,
-    SweepPoint, TimeOrigin,
+    write_svg_png, DissipationPlot, Drawing, FigureStyle, Frame, MemoryPlot, RegimePlot,
+    SlipMapPlot, SweepPoint, TimeOrigin,
 };
 use shakedown::io::parse::{parse_angle, parse_number, parse_values};
 use shakedown::io::preset::{FigureKind, FigureSpec, Preset};
@@ -41,8 +42,10 @@ use shakedown::io::csv::{
     fmt_number, read_slip_map, slip_csv, slip_map_metadata, sweep_metadata, Metadata,
     MetadataError, SlipMapFile,
 };
+use shakedown::io::cycle::{check_recorded_cycle, LOAD_CYCLE_KEY};
 use shakedown::io::memory_csv::{memory_csv, read_memory_csv};
 use shakedown::io::output::{check_file_stem, is_nonempty_file, same_file};
+use shakedown::model::Polyline;
 
 use super::batch::{
     lock_output, progress, refuse_input_as_output, report_interrupt, stream_sweep, write_file,
@@ -65,7 +68,7 @@ pub struct FigureArgs {
     /// old files stay until the new ones are complete.
     #[arg(long)]
     pub force: bool,
-    /// Redraw from a CSV this figure wrote (NAME.csv; a slip map also reads NAME_load.csv beside it), without running anything. The figure is drawn with the CSV's model (its header): lambda_2, lambda_3 and the title are those of the data.
+    /// Redraw from a CSV this figure wrote (NAME.csv; a slip map also reads NAME_load.csv beside it), without running anything. The figure is drawn with the CSV's model (its header): lambda_2, lambda_3 and the title are those of the data. A CSV made with --cycle is redrawn only with --cycle and a file of the same content (its header's load-cycle sha256).
     #[arg(long, value_name = "FILE.csv", conflicts_with = "resume")]
     pub from: Option<PathBuf>,
     /// With --from: draw a partial CSV (an interrupted figure); the caption (and the title, with --title) then says "partial: k of n runs". Without it a partial CSV is refused.
@@ -181,6 +184,13 @@ pub(super) fn out_dir_and_style(args: &FigureArgs, redraw: &str) -> Result<(Path
 /// into it.
 pub fn figure(args: FigureArgs) -> Result<ExitCode> {
     if args.name == "design" {
+        // The transient search is the paper's question, on its ellipse; a
+        // frontier records no cycle, so none may be given to draw it.
+        if let Some(c) = &args.model.cycle {
+            return Err(anyhow!(InputError(format!(
+                "--cycle {c}: figure design searches transients for the paper's elliptical cycle (docs/model.md section 10), not a polyline: drop --cycle"
+            ))));
+        }
         return super::design::figure(&args);
     }
     if args.name == "profile" {
@@ -230,10 +240,25 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
     })?;
     // A redraw is drawn with the model of its data: the --from file's
     // header gives every model flag the command line does not.
-    let model = match &args.from {
-        Some(f) => header_model(&args.model, &from_header(f)?),
+    let header = args.from.as_deref().map(from_header).transpose()?;
+    let mut model = match &header {
+        Some(h) => header_model(&args.model, h),
         None => args.model.clone(),
     };
+    // A redraw is drawn with the cycle its data was made with, checked
+    // before anything else of the header is used, and then named as the
+    // file records it (the same content under any file name).
+    let mut preset = preset;
+    let base = preset.params.clone();
+    if let (Some(f), Some(h)) = (&args.from, &header) {
+        let given = match &args.model.cycle {
+            Some(c) => Some(super::cycle_file(c)?),
+            None => preset.params.cycle.take(),
+        };
+        check_cycle(f, h, given.as_ref())?;
+        preset.params.cycle = as_recorded(h, given);
+        model.cycle = None;
+    }
     let used = model
         .apply(preset.params.clone())
         .map_err(|e| match &args.from {
@@ -243,7 +268,15 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
             ))),
             None => e,
         })?;
-    let mut notes = model_note(&preset.params, &used);
+    if fig.kind == FigureKind::Regime {
+        if let Some(p) = &used.cycle {
+            return Err(anyhow!(InputError(format!(
+                "figure {stem}: the regime map is drawn over the phase phi, which the load cycle {} has not: drop --cycle",
+                p.name()
+            ))));
+        }
+    }
+    let mut notes = model_note(&base, &used);
     let file = |ext: &str| out_dir.join(format!("{stem}{ext}"));
     let preset_path = Path::new(&args.name);
     if preset_path.exists() {
@@ -311,6 +344,11 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
             format!("{base_title} ({})", notes.join(", "))
         }
     };
+    let frame = |title: String| Frame {
+        title,
+        show_title: args.title,
+        style,
+    };
     let started = Instant::now();
     let mut written = Vec::new();
     if args.resume && !matches!(fig.kind, FigureKind::Dissipation | FigureKind::Regime) {
@@ -319,6 +357,7 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
     match fig.kind {
         FigureKind::Dissipation => {
             let spec = sweep_spec(&args, &model, &preset)?;
+            notes.splice(0..0, grid_note(&preset.sweep, &spec, fig.axis));
             let (points, partial) = match sweep_points(&args, &spec, &file(".csv"), replace)? {
                 Ok(p) => p,
                 Err(code) => return Ok(code),
@@ -327,14 +366,8 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
             if !redraw {
                 written.push(file(".csv"));
             }
-            let limit = limit_of(&fig, &spec, &points)?;
-            if let Some(l) = &limit {
-                if !redraw {
-                    write_limit(&file("_limit.csv"), l, &spec)?;
-                    written.push(file("_limit.csv"));
-                }
-                outln!("lambda_2 = {:.6} (linear programme)", l.load_factor);
-            }
+            let limit_file = (!redraw).then(|| file("_limit.csv"));
+            let limit = mark_limit(&fig, &spec, &points, limit_file, &mut written)?;
             if let Some((l1, l3)) = memory_window(&points) {
                 outln!("the transients disagree from lambda = {l1} to lambda_3 = {l3}");
             }
@@ -343,10 +376,8 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
                 axis: fig.axis,
                 ratchetting: fig.ratchetting,
                 lines: fig.lines,
-                title: titled(&notes),
-                show_title: args.title,
-                style,
-                limit: limit.as_ref().map(|l| l.load_factor),
+                frame: frame(titled(&notes)),
+                limit,
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
             outln!("{} runs", points.len());
@@ -421,13 +452,11 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
             let plot = RegimePlot {
                 map: &map,
                 limit: &curve,
-                title: format!(
+                frame: frame(format!(
                     "{}, transient {}",
                     titled(&notes),
                     spec.initials()[0].name()
-                ),
-                show_title: args.title,
-                style,
+                )),
                 paper_lines: true,
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
@@ -435,6 +464,7 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
         }
         FigureKind::Memory => {
             let spec = sweep_spec(&args, &model, &preset)?;
+            notes.splice(0..0, grid_note(&preset.sweep, &spec, fig.axis));
             let points = match &args.from {
                 Some(f) => from_memory_csv(f, &spec)?,
                 None => {
@@ -450,30 +480,25 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
                     points
                 }
             };
-            let limit = limit_of(&fig, &spec, &[])?;
-            if let Some(l) = &limit {
-                if !redraw {
-                    write_limit(&file("_limit.csv"), l, &spec)?;
-                    written.push(file("_limit.csv"));
-                }
-                outln!("lambda_2 = {:.6} (linear programme)", l.load_factor);
-            }
+            let limit_file = (!redraw).then(|| file("_limit.csv"));
+            let limit = mark_limit(&fig, &spec, &[], limit_file, &mut written)?;
             if let Some(l3) = ratchetting_onset(&points) {
                 outln!("lambda_3 = {l3} (every transient ratchets from here on)");
             }
             let plot = MemoryPlot {
                 points: &points,
-                title: titled(&notes),
-                show_title: args.title,
-                style,
-                limit: limit.as_ref().map(|l| l.load_factor),
+                frame: frame(titled(&notes)),
+                limit,
             };
             write_plot(&plot, &file(".svg"), &file(".png"))?;
         }
         FigureKind::SlipMap => {
-            let map = match &args.from {
-                Some(f) => read_slip_map_files(f)?,
-                None => {
+            let (map, initial) = match (&args.from, &header) {
+                (Some(f), Some(h)) => (
+                    read_slip_map_files(f, used.cycle.as_ref())?,
+                    h.get("initial").unwrap_or_default().to_string(),
+                ),
+                _ => {
                     let case = single_case(&args, &preset)?;
                     let map = slip_map(&case).map_err(|e| input(e.into()))?;
                     let meta = slip_map_metadata(&case, &map).render();
@@ -481,15 +506,18 @@ fn figure_into(args: FigureArgs) -> Result<ExitCode> {
                     write(&file("_load.csv"), &(meta + &map.load_csv()))?;
                     written.push(file(".csv"));
                     written.push(file("_load.csv"));
-                    map
+                    (map, case.initial().name())
                 }
             };
             describe(&map)?;
+            // The preset's title names its case (fig5: λ = 7, φ = 0): the
+            // caption says where the case drawn is another.
+            let preset_initial = preset.initial_path.clone().unwrap_or(base.initial.clone());
+            let case_notes = case_note(&base, &preset_initial, &map.cycle, &initial);
+            notes.splice(0..0, case_notes);
             let plot = SlipMapPlot {
                 map: &map,
-                title: titled(&notes),
-                show_title: args.title,
-                style,
+                frame: frame(titled(&notes)),
                 origin,
             };
             outln!(
@@ -571,6 +599,27 @@ fn limit_of(fig: &FigureSpec, spec: &SweepSpec, points: &[SweepPoint]) -> Result
         DEFAULT_SAMPLES,
     )?;
     Ok(Some(l))
+}
+
+/// `lambda_2` as the figure marks it ([`limit_of`]), printed; a figure
+/// that is made (not redrawn) also writes it to `file` (`NAME_limit.csv`),
+/// which then joins `written`.
+fn mark_limit(
+    fig: &FigureSpec,
+    spec: &SweepSpec,
+    points: &[SweepPoint],
+    file: Option<PathBuf>,
+    written: &mut Vec<PathBuf>,
+) -> Result<Option<f64>> {
+    let Some(l) = limit_of(fig, spec, points)? else {
+        return Ok(None);
+    };
+    if let Some(file) = file {
+        write_limit(&file, &l, spec)?;
+        written.push(file);
+    }
+    outln!("lambda_2 = {:.6} (linear programme)", l.load_factor);
+    Ok(Some(l.load_factor))
 }
 
 fn write_limit(path: &Path, l: &Limit, spec: &SweepSpec) -> Result<()> {
