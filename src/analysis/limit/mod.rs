@@ -86,6 +86,14 @@ pub enum LimitError {
         /// The solver's status, in words.
         status: String,
     },
+    /// Simplex pivots from the coarser grid's optimum reached no certified
+    /// vertex on a grid too fine for the interior-point fallback
+    /// ([`INTERIOR_POINT_MAX_NODES`]).
+    #[error("no certified optimum on {nodes} nodes: the simplex pivots from the coarser grid's optimum did not end in a certificate; try fewer nodes")]
+    NotCertified {
+        /// The grid's node count.
+        nodes: usize,
+    },
     /// The solver rejected its settings or the problem's data; holds its
     /// message.
     #[error("the LP solver rejected the problem: {0}")]
@@ -122,6 +130,11 @@ pub struct Limit {
 /// The smallest grid solved by the interior-point method; finer grids
 /// start their pivots from the optimum on half their nodes.
 const COARSEST: usize = 64;
+
+/// The finest grid the interior-point method is used on when pivots end
+/// without a certificate: on the dense `2 N x N` rows it takes about 5 s
+/// of CPU at 512 nodes, and grows as `N^3`.
+pub const INTERIOR_POINT_MAX_NODES: usize = 512;
 
 /// Clarabel's default feasibility and gap tolerance: its optimum is then
 /// good to about `1e-9` relative at `N = 128` (and `1e-6` at `N = 1024`),
@@ -173,6 +186,9 @@ fn optimum(
         Some(v) => {
             pivots += v.pivots;
             (v.slip, v.load_factor)
+        }
+        None if nodes > INTERIOR_POINT_MAX_NODES => {
+            return Err(LimitError::NotCertified { nodes });
         }
         None => {
             let (slip, load_factor, its) = lp.solve(&rows, DEFAULT_TOLERANCE)?;

@@ -34,6 +34,10 @@ use crate::contact::FftScratch;
 /// Pivots allowed per search, as a multiple of `N` (plus a constant): a
 /// good guess needs a few per node that changed sign between the grids.
 const PIVOTS_PER_NODE: usize = 2;
+/// Rounds of dual then primal pivots: a round ends with the certificate
+/// checked on a fresh factorisation, and round-off that leaves a row
+/// violated there sends the search back to dual pivots.
+const ROUNDS: usize = 4;
 /// Rows replaced before the basis is factorised anew.
 const REFACTOR_AFTER: usize = 48;
 
@@ -147,6 +151,13 @@ impl<'p, 'a> Basis<'p, 'a> {
         y
     }
 
+    /// Factorise the current basis afresh, dropping the updates.
+    fn refactor(&mut self) {
+        self.k0 = Self::factor(self.lp, self.rows, &self.slots);
+        self.updates.clear();
+        self.capacitance = None;
+    }
+
     /// Put row `enter` in the slot of row `leave`.
     fn pivot(&mut self, leave_slot: usize, enter: usize) {
         let leave = self.slots[leave_slot];
@@ -154,9 +165,7 @@ impl<'p, 'a> Basis<'p, 'a> {
         self.in_basis[enter] = true;
         self.slots[leave_slot] = enter;
         if self.updates.len() >= REFACTOR_AFTER {
-            self.k0 = Self::factor(self.lp, self.rows, &self.slots);
-            self.updates.clear();
-            self.capacitance = None;
+            self.refactor();
             return;
         }
         let a_new = self.lp.row(self.rows[enter]);
@@ -242,8 +251,20 @@ impl Programme<'_> {
         if guess.len() != n {
             return None;
         }
+        // A row's value `a . x` is a sum of `N` products whose largest
+        // partial sums are about `|A|_inf |x|_inf` (`|A|_inf`, the largest
+        // row sum, grows as `N / 2` through `|D|`): its round-off, and so
+        // the tolerance on a row, scales with that and with `b`.
         let scale = rows.iter().map(|&r| self.rhs(r).abs()).fold(1.0, f64::max);
-        let tol_primal = 1e-11 * scale;
+        let (h, d) = (self.ops.hilbert_col(0), self.ops.abs_derivative_col(0));
+        let rate = rows.iter().map(|r| r.rate.abs()).fold(0.0, f64::max);
+        let norm = d.iter().map(|v| v.abs()).sum::<f64>()
+            + self.friction * h.iter().map(|v| v.abs()).sum::<f64>()
+            + rate;
+        let tol_primal = |x: &[f64]| {
+            let size = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            1e-13 * (scale + norm * size)
+        };
         let mut basis = Basis::new(self, rows, guess);
         let mut scratch = FftScratch::default();
         let mut objective = vec![0.0; n + 1];
@@ -275,81 +296,92 @@ impl Programme<'_> {
         };
         let cap = PIVOTS_PER_NODE * n + 50;
         let mut pivots = 0;
-        // Dual simplex on the (shifted) objective.
-        let dual_objective = shifted.as_deref().unwrap_or(&objective);
-        loop {
-            let rhs: Vec<f64> = basis
+        let rhs = |basis: &Basis| -> Vec<f64> {
+            basis
                 .slots
                 .iter()
                 .map(|&r| self.rhs(rows[r]))
                 .chain(std::iter::once(0.0))
-                .collect();
-            let x = basis.solve(&rhs);
-            let slack = self.slacks(rows, &x, &mut scratch);
-            let Some((enter, _)) = slack
-                .iter()
-                .enumerate()
-                .filter(|&(r, &s)| !basis.in_basis[r] && s < -tol_primal)
-                .min_by(|a, b| a.1.total_cmp(b.1))
-            else {
-                break;
-            };
-            if pivots == cap {
-                return None;
-            }
-            let y = multipliers(&basis, dual_objective);
-            let delta = basis.solve_transpose(&self.row(rows[enter]));
-            // y(t) = y - t delta stays >= 0: the first slot to reach 0 leaves.
-            let leave = (0..n)
-                .filter(|&s| delta[s] > 1e-14 * (1.0 + delta[s].abs()))
-                .min_by(|&a, &b| {
-                    (y[a].max(0.0) / delta[a]).total_cmp(&(y[b].max(0.0) / delta[b]))
-                })?;
-            basis.pivot(leave, enter);
-            pivots += 1;
-        }
-        // Primal simplex on the true objective from the feasible vertex.
-        loop {
-            let rhs: Vec<f64> = basis
-                .slots
-                .iter()
-                .map(|&r| self.rhs(rows[r]))
-                .chain(std::iter::once(0.0))
-                .collect();
-            let x = basis.solve(&rhs);
-            let y = multipliers(&basis, &objective);
-            let Some((leave, _)) = y[..n]
-                .iter()
-                .enumerate()
-                .filter(|&(_, &v)| v < -tol_dual)
-                .min_by(|a, b| a.1.total_cmp(b.1))
-            else {
+                .collect()
+        };
+        // Dual simplex on the shifted objective first; on the true one when
+        // round-off left a row violated at the end of the primal pivots.
+        let mut dual_objective = shifted.unwrap_or_else(|| objective.clone());
+        for _round in 0..ROUNDS {
+            loop {
+                let x = basis.solve(&rhs(&basis));
                 let slack = self.slacks(rows, &x, &mut scratch);
-                if slack.iter().any(|&s| s < -tol_primal) || !x[n].is_finite() {
+                let tol = tol_primal(&x);
+                let Some((enter, _)) = slack
+                    .iter()
+                    .enumerate()
+                    .filter(|&(r, &s)| !basis.in_basis[r] && s < -tol)
+                    .min_by(|a, b| a.1.total_cmp(b.1))
+                else {
+                    break;
+                };
+                if pivots == cap {
                     return None;
                 }
+                let y = multipliers(&basis, &dual_objective);
+                let delta = basis.solve_transpose(&self.row(rows[enter]));
+                // y(t) = y - t delta stays >= 0: the first slot to reach 0
+                // leaves.
+                let leave = (0..n)
+                    .filter(|&s| delta[s] > 1e-14 * (1.0 + delta[s].abs()))
+                    .min_by(|&a, &b| {
+                        (y[a].max(0.0) / delta[a]).total_cmp(&(y[b].max(0.0) / delta[b]))
+                    })?;
+                basis.pivot(leave, enter);
+                pivots += 1;
+            }
+            // Primal simplex on the true objective from the feasible vertex.
+            loop {
+                let x = basis.solve(&rhs(&basis));
+                let y = multipliers(&basis, &objective);
+                let Some((leave, _)) = y[..n]
+                    .iter()
+                    .enumerate()
+                    .filter(|&(_, &v)| v < -tol_dual)
+                    .min_by(|a, b| a.1.total_cmp(b.1))
+                else {
+                    break;
+                };
+                if pivots == cap {
+                    return None;
+                }
+                // Move off row `leave`: K d = -e_leave, lambda rises by -y.
+                let mut e = vec![0.0; n + 1];
+                e[leave] = -1.0;
+                let d = basis.solve(&e);
+                let slack = self.slacks(rows, &x, &mut scratch);
+                let ad = self.products(rows, &d, &mut scratch);
+                let (enter, _) = (0..rows.len())
+                    .filter(|&r| !basis.in_basis[r] && ad[r] > 1e-14)
+                    .map(|r| (r, slack[r].max(0.0) / ad[r]))
+                    .min_by(|a, b| a.1.total_cmp(&b.1))?;
+                basis.pivot(leave, enter);
+                pivots += 1;
+            }
+            // The certificate, from a fresh factorisation (without the
+            // updates' round-off): every row holds, every multiplier is
+            // non-negative.
+            basis.refactor();
+            let x = basis.solve(&rhs(&basis));
+            let y = multipliers(&basis, &objective);
+            let slack = self.slacks(rows, &x, &mut scratch);
+            let primal = slack.iter().all(|&s| s >= -tol_primal(&x));
+            let dual = y[..n].iter().all(|&v| v >= -tol_dual);
+            if primal && dual && x[n].is_finite() {
                 let mean = x[..n].iter().sum::<f64>() / n as f64;
                 return Some(Vertex {
                     slip: x[..n].iter().map(|g| g - mean).collect(),
                     load_factor: x[n],
                     pivots,
                 });
-            };
-            if pivots == cap {
-                return None;
             }
-            // Move off row `leave`: K d = -e_leave, lambda rises by -y.
-            let mut e = vec![0.0; n + 1];
-            e[leave] = -1.0;
-            let d = basis.solve(&e);
-            let slack = self.slacks(rows, &x, &mut scratch);
-            let ad = self.products(rows, &d, &mut scratch);
-            let (enter, _) = (0..rows.len())
-                .filter(|&r| !basis.in_basis[r] && ad[r] > 1e-14)
-                .map(|r| (r, slack[r].max(0.0) / ad[r]))
-                .min_by(|a, b| a.1.total_cmp(&b.1))?;
-            basis.pivot(leave, enter);
-            pivots += 1;
+            dual_objective.clone_from(&objective);
         }
+        None
     }
 }
