@@ -150,6 +150,23 @@ struct Optimum {
     max_violation: f64,
 }
 
+impl Optimum {
+    /// The [`Limit`] of this optimum, imposed at `times`, whose slip holds
+    /// up to `shrink` times `lambda_2` on the whole cycle.
+    fn into_limit(self, shrink: f64, times: Vec<f64>, line: bool) -> Limit {
+        Limit {
+            load_factor: self.load_factor,
+            lower_bound: self.load_factor * shrink,
+            slip: self.slip,
+            times,
+            line,
+            max_violation: self.max_violation,
+            iterations: self.iterations,
+            pivots: self.pivots,
+        }
+    }
+}
+
 /// The `lambda_2` programme on `nodes` nodes with the friction law imposed
 /// at `points` (the cycle's load points at `lambda = 1`).
 ///
@@ -302,29 +319,14 @@ pub fn shakedown_limit(
     };
 
     let points: Vec<LoadPoint> = times.iter().map(|&t| unit.at(t)).collect();
-    let Optimum {
-        slip,
-        load_factor,
-        iterations,
-        pivots,
-        max_violation,
-    } = optimum(material, center, &points, disc.nodes())?;
-
-    let lower_bound = if line {
-        load_factor
+    let optimum = optimum(material, center, &points, disc.nodes())?;
+    // The inscribed M-gon holds the ellipse shrunk by cos(pi / M).
+    let shrink = if line {
+        1.0
     } else {
-        load_factor * (PI / samples as f64).cos()
+        (PI / samples as f64).cos()
     };
-    Ok(Limit {
-        load_factor,
-        lower_bound,
-        slip,
-        times,
-        line,
-        max_violation,
-        iterations,
-        pivots,
-    })
+    Ok(optimum.into_limit(shrink, times, line))
 }
 
 /// `lambda_2` for any cycle: the ellipse as [`shakedown_limit`] with
@@ -366,23 +368,7 @@ pub fn cycle_limit(
         .iter()
         .map(|o| LoadPoint::new(center.x() + o.x(), center.y() + o.y()))
         .collect();
-    let Optimum {
-        slip,
-        load_factor,
-        iterations,
-        pivots,
-        max_violation,
-    } = optimum(material, center, &points, disc.nodes())?;
-    Ok(Limit {
-        load_factor,
-        lower_bound: load_factor,
-        slip,
-        times,
-        line: false,
-        max_violation,
-        iterations,
-        pivots,
-    })
+    Ok(optimum(material, center, &points, disc.nodes())?.into_limit(1.0, times, false))
 }
 
 /// One row of [`sample_convergence`]: the sample count `M`, `lambda_M`
